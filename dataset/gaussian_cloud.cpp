@@ -1,0 +1,1 @@
+#include "dataset/gaussian_cloud.h"

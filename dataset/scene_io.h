@@ -1,0 +1,22 @@
+#pragma once
+// Reading and writing 3DGS scenes. Every reader throws InputError naming the file and the
+// problem on malformed input; none crashes or reads past the data.
+#include <filesystem>
+
+#include "dataset/gaussian_cloud.h"
+
+namespace pg::data {
+
+// Picks the reader from the file's content (PLY header, gzip magic) and extension.
+GaussianCloud load_scene(const std::filesystem::path& path);
+
+GaussianCloud read_ply(const std::filesystem::path& path);        // INRIA, 2DGS, PlayCanvas compressed
+GaussianCloud read_splat(const std::filesystem::path& path);      // antimatter15 .splat
+GaussianCloud read_spz(const std::filesystem::path& path);        // Niantic .spz (gzip)
+
+// Writes a binary little-endian INRIA PLY. Properties the cloud was read with keep their
+// order and type; extras not in that order follow. Written to a temporary file and renamed,
+// so a failure leaves no partial output. Refuses to overwrite `protect` if given.
+void write_ply(const GaussianCloud& cloud, const std::filesystem::path& path);
+
+}  // namespace pg::data
