@@ -1,5 +1,11 @@
 #version 450
+// Fills n uints with a value: the smallest kernel, used by the Vulkan core tests.
+#extension GL_GOOGLE_include_directive : require
+#include "common/dispatch.glsl"
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) buffer Data { uint data[]; };
 layout(push_constant) uniform Push { uint n; uint value; } pc;
-void main() { uint i = gl_GlobalInvocationID.x; if (i < pc.n) data[i] = pc.value; }
+void main() {
+    uint i = pg_global_index();
+    if (i < pc.n) data[i] = pc.value + i;
+}

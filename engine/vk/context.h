@@ -1,0 +1,89 @@
+#pragma once
+// The Vulkan instance, the chosen device and its compute queue: no window system needed.
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+namespace pg::vk {
+
+class ComputePipeline;
+
+struct ContextOptions {
+    std::string device;       // substring of the device name; empty: PG_DEVICE, else best
+    bool validation = false;  // Khronos validation (also on with PG_VALIDATION=1)
+    bool quiet = false;       // do not print the chosen device
+    // Tests lower this to exercise dispatch splitting cheaply; 0 = the device's limit.
+    uint32_t max_group_count_override = 0;
+};
+
+struct DeviceInfo {
+    std::string name;
+    VkPhysicalDeviceType type;
+    uint32_t api_version;
+    VkDeviceSize max_storage_buffer_range;
+    VkDeviceSize max_allocation_size;
+    VkDeviceSize max_buffer_size;
+    uint32_t max_group_count[3];
+    uint32_t max_shared_memory;
+    uint32_t subgroup_size;
+    float timestamp_period_ns;
+    bool timestamps;
+    bool unified_memory;  // every device-local heap is host-visible (lavapipe, some iGPUs)
+    VkDeviceSize device_memory_bytes;
+};
+
+std::string device_type_name(VkPhysicalDeviceType t);
+
+class Context {
+public:
+    explicit Context(const ContextOptions& options = {});
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    VkInstance instance() const { return instance_; }
+    VkPhysicalDevice physical_device() const { return physical_; }
+    VkDevice device() const { return device_; }
+    VkQueue queue() const { return queue_; }
+    uint32_t queue_family() const { return queue_family_; }
+    const DeviceInfo& info() const { return info_; }
+    uint32_t max_group_count_x() const;
+
+    uint32_t find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred) const;
+
+    // Pipelines are built once per shader name and kept for the context's life.
+    ComputePipeline& pipeline(const std::string& shader, uint32_t buffer_count, uint32_t push_bytes);
+
+    // Validation messages seen so far (warnings and errors); tests fail when non-zero.
+    static uint64_t validation_message_count();
+
+    PFN_vkCmdPushDescriptorSetKHR push_descriptor_fn = nullptr;
+
+    // Every device the loader sees, for `--device` help and errors.
+    static std::vector<std::string> list_devices();
+
+private:
+    void create_instance(bool validation);
+    void pick_device(const std::string& wanted);
+    void create_device();
+
+    VkInstance instance_ = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+    VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkQueue queue_ = VK_NULL_HANDLE;
+    uint32_t queue_family_ = 0;
+    DeviceInfo info_{};
+    VkPhysicalDeviceMemoryProperties memory_{};
+    ContextOptions options_;
+    std::mutex pipelines_mutex_;
+    std::map<std::string, std::unique_ptr<ComputePipeline>> pipelines_;
+};
+
+}  // namespace pg::vk

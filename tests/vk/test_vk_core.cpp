@@ -1,0 +1,139 @@
+#include <catch2/catch.hpp>
+
+#include <numeric>
+
+#include "engine/vk/buffer.h"
+#include "engine/vk/commands.h"
+#include "engine/vk/context.h"
+#include "tests/gpu_fixture.h"
+
+using namespace pg;
+
+namespace {
+struct FillPush { uint32_t n, value; };
+struct ArgsPush { uint32_t count_index, items_per_group, limit, args_index, clamp_count; };
+}  // namespace
+
+TEST_CASE("the context picks a device and reports it") {
+    auto& ctx = test::gpu();
+    CHECK_FALSE(ctx.info().name.empty());
+    CHECK(ctx.info().max_group_count[0] >= 65535);
+    CHECK(ctx.info().max_storage_buffer_range > 0);
+}
+
+TEST_CASE("an unknown --device name is one clear error listing the devices") {
+    vk::ContextOptions o;
+    o.device = "no-such-gpu-xyz";
+    o.quiet = true;
+    try {
+        vk::Context ctx(o);
+        FAIL("expected an error");
+    } catch (const std::runtime_error& e) {
+        std::string msg = e.what();
+        CHECK(msg.find("no-such-gpu-xyz") != std::string::npos);
+        CHECK(msg.find("have:") != std::string::npos);
+    }
+}
+
+TEST_CASE("buffers round-trip through every memory use") {
+    auto& ctx = test::gpu();
+    std::vector<uint32_t> data(1000);
+    std::iota(data.begin(), data.end(), 7u);
+    for (auto use : {vk::MemoryUse::Device, vk::MemoryUse::Upload, vk::MemoryUse::Readback}) {
+        vk::Buffer b(ctx, data.size() * 4, use, "roundtrip");
+        vk::upload(ctx, b, data.data(), data.size() * 4);
+        CHECK(vk::download_vector<uint32_t>(ctx, b, data.size()) == data);
+        // Partial windows with offsets.
+        auto part = vk::download_vector<uint32_t>(ctx, b, 10, 40);
+        CHECK(part[0] == data[10]);
+    }
+    vk::Buffer empty(ctx, 0, vk::MemoryUse::Device, "empty");
+    CHECK(empty.valid());
+}
+
+TEST_CASE("a buffer larger than the device allows is a clear error, and >4 GiB works where allowed") {
+    auto& ctx = test::gpu();
+    const VkDeviceSize five_gib = 5ull << 30;
+    const auto& info = ctx.info();
+    if (five_gib > info.max_allocation_size || five_gib > info.max_buffer_size) {
+        try {
+            vk::Buffer b(ctx, five_gib, vk::MemoryUse::Device, "huge");
+            FAIL("expected an error");
+        } catch (const std::runtime_error& e) {
+            CHECK(std::string(e.what()).find("huge") != std::string::npos);
+        }
+    } else if (info.device_memory_bytes > 2 * five_gib) {
+        vk::Buffer b(ctx, five_gib, vk::MemoryUse::Device, "huge");
+        CHECK(b.size() >= five_gib);
+        // Write past 4 GiB and read it back: 64-bit offsets all the way.
+        vk::CommandList cmd(ctx);
+        cmd.fill(b, 0xABCD1234u, (4ull << 30) + 64, 64);
+        cmd.submit_and_wait();
+        CHECK(vk::download_vector<uint32_t>(ctx, b, 1, (4ull << 30) + 64)[0] == 0xABCD1234u);
+    }
+}
+
+TEST_CASE("dispatches over the group-count limit are split, never refused") {
+    vk::ContextOptions o;
+    o.validation = true;
+    o.quiet = true;
+    o.max_group_count_override = 7;  // 64-wide groups: anything over 448 items is folded
+    vk::Context ctx(o);
+    for (uint32_t n : {1u, 63u, 64u, 448u, 449u, 1000u, 4099u}) {
+        vk::Buffer b(ctx, n * 4, vk::MemoryUse::Device, "fill");
+        vk::CommandList cmd(ctx);
+        cmd.fill(b, 0);
+        cmd.dispatch("common/fill_u32", {b}, FillPush{n, 5}, (n + 63) / 64);
+        cmd.submit_and_wait();
+        auto out = vk::download_vector<uint32_t>(ctx, b, n);
+        for (uint32_t i = 0; i < n; ++i) REQUIRE(out[i] == 5 + i);
+    }
+    CHECK(vk::Context::validation_message_count() == 0);
+}
+
+TEST_CASE("indirect dispatch from a GPU-written count needs no host round trip") {
+    vk::ContextOptions o;
+    o.validation = true;
+    o.quiet = true;
+    o.max_group_count_override = 5;
+    vk::Context ctx(o);
+    const uint32_t capacity = 2000;
+    vk::Buffer counts(ctx, 16, vk::MemoryUse::Device, "counts");
+    vk::Buffer args(ctx, 16, vk::MemoryUse::Device, "args");
+    vk::Buffer data(ctx, capacity * 4, vk::MemoryUse::Device, "data");
+    for (uint32_t n : {0u, 1u, 320u, 321u, 1999u}) {
+        vk::CommandList cmd(ctx);
+        cmd.fill(data, 0xFFFFFFFFu);
+        cmd.update(counts, &n, 4);
+        cmd.dispatch("common/indirect_args", {counts, args}, ArgsPush{0, 64, ctx.max_group_count_x(), 0, 0}, 1);
+        cmd.dispatch_indirect("common/fill_u32", {data}, FillPush{n, 0}, args);
+        cmd.submit_and_wait();
+        auto out = vk::download_vector<uint32_t>(ctx, data, capacity);
+        for (uint32_t i = 0; i < capacity; ++i) REQUIRE(out[i] == (i < n ? i : 0xFFFFFFFFu));
+    }
+    CHECK(vk::Context::validation_message_count() == 0);
+}
+
+TEST_CASE("dependent passes are ordered by automatic barriers and timed") {
+    auto& ctx = test::gpu();
+    const uint32_t n = 5000;
+    vk::Buffer a(ctx, n * 4, vk::MemoryUse::Device, "a"), b(ctx, n * 4, vk::MemoryUse::Device, "b");
+    vk::CommandList cmd(ctx);
+    cmd.begin_pass("fill");
+    cmd.dispatch("common/fill_u32", {a}, FillPush{n, 1}, (n + 63) / 64);
+    cmd.begin_pass("copy");
+    cmd.copy(a, b, n * 4);
+    cmd.begin_pass("overwrite");
+    cmd.dispatch("common/fill_u32", {a}, FillPush{n, 100}, (n + 63) / 64);
+    cmd.end_pass();
+    cmd.submit_and_wait();
+    auto vb = vk::download_vector<uint32_t>(ctx, b, n);
+    auto va = vk::download_vector<uint32_t>(ctx, a, n);
+    CHECK(vb[n - 1] == 1 + n - 1);
+    CHECK(va[n - 1] == 100 + n - 1);
+    if (ctx.info().timestamps) {
+        REQUIRE(cmd.timings().size() == 3);
+        CHECK(cmd.timings()[0].name == "fill");
+        for (auto& t : cmd.timings()) CHECK(t.ms >= 0.0);
+    }
+}
