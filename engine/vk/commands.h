@@ -53,11 +53,20 @@ public:
                      uint32_t groups_x, uint32_t groups_y) {
         dispatch_raw(shader, buffers, &push, sizeof(Push), groups_x, groups_y);
     }
+    void dispatch_2d(const std::string& shader, std::initializer_list<BufferRange> buffers, uint32_t groups_x,
+                     uint32_t groups_y) {
+        dispatch_raw(shader, buffers, nullptr, 0, groups_x, groups_y);
+    }
     // Group counts read from `args` at `offset` (three uints, written by an earlier pass).
     template <class Push>
     void dispatch_indirect(const std::string& shader, std::initializer_list<BufferRange> buffers, const Push& push,
                            const Buffer& args, VkDeviceSize offset = 0) {
         dispatch_indirect_raw(shader, buffers, &push, sizeof(Push), args, offset);
+    }
+
+    void dispatch_indirect(const std::string& shader, std::initializer_list<BufferRange> buffers, const Buffer& args,
+                           VkDeviceSize offset = 0) {
+        dispatch_indirect_raw(shader, buffers, nullptr, 0, args, offset);
     }
 
     void fill(const Buffer& dst, uint32_t value, VkDeviceSize offset = 0, VkDeviceSize bytes = VK_WHOLE_SIZE);

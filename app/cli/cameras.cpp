@@ -1,0 +1,84 @@
+// pointgauss orbit: cameras around a scene that came without any.
+// pointgauss make-sample: writes the bundled sample scene (assets/sample) from its generator.
+#include <cstdio>
+#include <filesystem>
+
+#include "app/cli/commands.h"
+#include "dataset/camera_io.h"
+#include "dataset/error.h"
+#include "dataset/orbit.h"
+#include "dataset/sample_scene.h"
+#include "dataset/scene_io.h"
+
+namespace pg::app {
+
+namespace fs = std::filesystem;
+
+glm::dvec3 parse_up(const std::string& s) {
+    static const std::pair<const char*, glm::dvec3> named[] = {
+        {"x", {1, 0, 0}}, {"-x", {-1, 0, 0}}, {"y", {0, 1, 0}}, {"-y", {0, -1, 0}}, {"z", {0, 0, 1}}, {"-z", {0, 0, -1}}};
+    for (auto& [n, v] : named)
+        if (s == n) return v;
+    glm::dvec3 v;
+    char extra;
+    if (std::sscanf(s.c_str(), "%lf,%lf,%lf%c", &v.x, &v.y, &v.z, &extra) != 3 || !(glm::length(v) > 0))
+        throw data::InputError("--up", "expected x,y,z or one of x -x y -y z -z, got '" + s + "'");
+    return glm::normalize(v);
+}
+
+namespace {
+
+struct OrbitArgs {
+    std::string scene, out, up = "-y";
+    data::OrbitOptions o;
+};
+
+struct SampleArgs {
+    std::string out;
+    uint32_t seed = 1;
+};
+
+void run_orbit(const OrbitArgs& a) {
+    auto cloud = data::load_scene(a.scene);
+    auto cams = data::orbit_cameras(cloud, parse_up(a.up), a.o);
+    if (fs::exists(a.out) && fs::equivalent(a.out, a.scene)) throw data::InputError(a.out, "would overwrite the scene");
+    data::write_inria_cameras_json(cams, a.out);
+    std::printf("wrote %zu cameras to %s\n", cams.size(), a.out.c_str());
+}
+
+void run_make_sample(const SampleArgs& a) {
+    auto sample = data::make_sample_scene(a.seed);
+    fs::path out(a.out);
+    fs::create_directories(out / "sparse" / "0");
+    data::write_ply(sample.cloud, out / "scene.ply");
+    data::write_inria_cameras_json(sample.cameras, out / "cameras.json");
+    data::write_colmap_binary(sample.cameras, out / "sparse" / "0");
+    std::printf("wrote the sample scene (%zu Gaussians, %zu cameras) to %s\n", sample.cloud.size(),
+                sample.cameras.size(), a.out.c_str());
+}
+
+}  // namespace
+
+void register_cameras(CLI::App& app, std::function<void()>& run) {
+    auto a = std::make_shared<OrbitArgs>();
+    auto* cmd = app.add_subcommand("orbit", "Write an orbit of cameras (INRIA cameras.json) around a scene");
+    cmd->add_option("scene", a->scene, "Scene file")->required();
+    cmd->add_option("--out", a->out, "cameras.json to write")->required();
+    cmd->add_option("--up", a->up, "World up: x,y,z or x/-x/y/-y/z/-z (COLMAP scenes are y-down: -y)")
+        ->capture_default_str();
+    cmd->add_option("--count", a->o.count, "Number of cameras")->capture_default_str();
+    cmd->add_option("--elevation", a->o.elevation_degrees, "Degrees above the horizontal plane")->capture_default_str();
+    cmd->add_option("--width", a->o.width, "Image width")->capture_default_str();
+    cmd->add_option("--height", a->o.height, "Image height")->capture_default_str();
+    cmd->add_option("--fov", a->o.fov_x_degrees, "Horizontal field of view, degrees")->capture_default_str();
+    cmd->add_option("--distance", a->o.distance, "Distance from the centre (default: fit the scene)");
+    cmd->callback([a, &run] { run = [a] { run_orbit(*a); }; });
+
+    auto s = std::make_shared<SampleArgs>();
+    auto* sample = app.add_subcommand("make-sample", "Generate the bundled sample scene (scene.ply, cameras.json, sparse/0)");
+    sample->add_option("--out", s->out, "Output folder")->required();
+    sample->add_option("--seed", s->seed, "Generator seed")->capture_default_str();
+    sample->callback([s, &run] { run = [s] { run_make_sample(*s); }; });
+}
+
+}  // namespace pg::app

@@ -1,0 +1,30 @@
+#pragma once
+// Each subcommand registers itself on the CLI11 app; one file per subcommand.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "dataset/camera.h"
+
+namespace pg::app {
+
+// Options every GPU subcommand takes.
+struct DeviceOptions {
+    std::string device;  // --device NAME
+};
+void add_device_option(CLI::App& cmd, DeviceOptions& opt);
+
+void register_info(CLI::App& app, std::function<void()>& run);
+void register_render(CLI::App& app, std::function<void()>& run);
+void register_bench(CLI::App& app, std::function<void()>& run);
+void register_cameras(CLI::App& app, std::function<void()>& run);
+
+// "-y", "z", or "x,y,z" -> a unit vector; InputError naming --up otherwise.
+glm::dvec3 parse_up(const std::string& s);
+
+// "all" or a comma list of indices or camera names -> indices into `cameras`.
+std::vector<size_t> select_views(const std::string& spec, const std::vector<data::Camera>& cameras);
+
+}  // namespace pg::app

@@ -1,0 +1,45 @@
+#include <charconv>
+#include <sstream>
+
+#include "app/cli/commands.h"
+#include "dataset/error.h"
+
+namespace pg::app {
+
+void add_device_option(CLI::App& cmd, DeviceOptions& opt) {
+    cmd.add_option("--device", opt.device, "Vulkan device name (substring); default: PG_DEVICE, else the best GPU");
+}
+
+std::vector<size_t> select_views(const std::string& spec, const std::vector<data::Camera>& cameras) {
+    std::vector<size_t> out;
+    if (spec.empty() || spec == "all") {
+        for (size_t i = 0; i < cameras.size(); ++i) out.push_back(i);
+        return out;
+    }
+    std::stringstream ss(spec);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        if (item.empty()) continue;
+        size_t index = 0;
+        auto [ptr, ec] = std::from_chars(item.data(), item.data() + item.size(), index);
+        if (ec == std::errc() && ptr == item.data() + item.size()) {
+            if (index >= cameras.size())
+                throw data::InputError("--views", "view " + item + " is out of range (there are " +
+                                                      std::to_string(cameras.size()) + " cameras)");
+            out.push_back(index);
+            continue;
+        }
+        bool found = false;
+        for (size_t i = 0; i < cameras.size(); ++i)
+            if (cameras[i].name == item) {
+                out.push_back(i);
+                found = true;
+                break;
+            }
+        if (!found) throw data::InputError("--views", "no camera named '" + item + "'");
+    }
+    if (out.empty()) throw data::InputError("--views", "selects no camera");
+    return out;
+}
+
+}  // namespace pg::app

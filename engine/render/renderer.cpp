@@ -1,0 +1,140 @@
+#include "engine/render/renderer.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <stdexcept>
+
+#include "engine/vk/context.h"
+#include "shaders/render/render_shared.h"
+
+namespace pg::render {
+
+namespace {
+
+struct ArgsPush {
+    uint32_t count_index, items_per_group, limit, args_index, clamp_count;
+};
+
+gpu::FrameParams frame_params(const data::Camera& cam, const RenderSettings& s, uint32_t count, uint32_t sh_floats,
+                              int sh_degree, uint32_t capacity, uint32_t group_limit) {
+    gpu::FrameParams f{};
+    glm::dmat4 view = cam.world_to_camera();
+    f.view = glm::mat4(view);
+    f.camera_pos = glm::vec4(glm::vec3(cam.position()), 1.0f);
+    f.intrinsics = glm::vec4(float(cam.fx), float(cam.fy), float(cam.cx), float(cam.cy));
+    f.background = glm::vec4(s.background, s.tau);
+    f.clip = glm::vec4(s.near, float(0.5 * cam.width / cam.fx), float(0.5 * cam.height / cam.fy), 0.0f);
+    uint32_t tiles_x = (uint32_t(cam.width) + gpu::kTileSize - 1) / gpu::kTileSize;
+    uint32_t tiles_y = (uint32_t(cam.height) + gpu::kTileSize - 1) / gpu::kTileSize;
+    f.size = glm::uvec4(cam.width, cam.height, tiles_x, tiles_y);
+    f.scene = glm::uvec4(count, sh_floats, uint32_t(std::clamp(std::min(sh_degree, s.max_sh_degree), 0, 3)),
+                         s.antialiased ? 1u : 0u);
+    f.capacity = glm::uvec4(capacity, group_limit, 0, 0);
+    return f;
+}
+
+}  // namespace
+
+Renderer::Renderer(vk::Context& ctx)
+    : ctx_(ctx),
+      cmd_(ctx),
+      scan_(ctx),
+      sort_(ctx),
+      frame_(ctx, sizeof(gpu::FrameParams), vk::MemoryUse::Device, "frame params"),
+      counters_(ctx, 16, vk::MemoryUse::Device, "render counters"),
+      args_(ctx, 16, vk::MemoryUse::Device, "render indirect args") {}
+
+void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, const RenderSettings& settings) {
+    data::Camera camera = camera_in;
+    if (settings.width > 0 && settings.height > 0) camera = camera_in.resized(settings.width, settings.height);
+    if (camera.width <= 0 || camera.height <= 0 || camera.width > 16384 || camera.height > 16384)
+        throw std::runtime_error("camera '" + camera.name + "' has an unusable image size " +
+                                 std::to_string(camera.width) + "x" + std::to_string(camera.height));
+    width_ = camera.width;
+    height_ = camera.height;
+    const uint32_t n = scene.size();
+    const uint32_t tiles_x = (uint32_t(width_) + gpu::kTileSize - 1) / gpu::kTileSize;
+    const uint32_t tiles_y = (uint32_t(height_) + gpu::kTileSize - 1) / gpu::kTileSize;
+    const uint32_t tiles = tiles_x * tiles_y;
+    const uint64_t pixels = uint64_t(width_) * uint64_t(height_);
+
+    if (!splats_.valid()) {
+        splats_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "splats");
+        touched_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "tiles touched");
+        offsets_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "key offsets");
+        rects_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "tile rects");
+        keys_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "sort keys");
+        values_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "sort values");
+        ranges_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "tile ranges");
+        image_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "image");
+        aux_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "aux image");
+    }
+    splats_.ensure(uint64_t(n) * sizeof(gpu::Splat));
+    touched_.ensure(uint64_t(n) * 4);
+    offsets_.ensure(uint64_t(n) * 4);
+    rects_.ensure(uint64_t(n) * 8);
+    ranges_.ensure(uint64_t(tiles) * 8);
+    image_.ensure(pixels * 16);
+    aux_.ensure(pixels * 16);
+    if (capacity_ == 0) capacity_ = std::max<uint32_t>(1024, std::min<uint64_t>(uint64_t(n) * 4, 1u << 24));
+
+    const uint32_t key_bits = 32 + std::max(1, int(std::bit_width(tiles - 1)));
+    const uint32_t group_limit = ctx_.max_group_count_x();
+    retries_ = 0;
+    for (;;) {
+        keys_.ensure(uint64_t(capacity_) * 8);
+        values_.ensure(uint64_t(capacity_) * 4);
+        auto params = frame_params(camera, settings, n, scene.sh_floats(), scene.sh_degree(), capacity_, group_limit);
+        cmd_.update(frame_, &params, sizeof(params));
+        cmd_.begin_pass("preprocess");
+        cmd_.dispatch("render/preprocess", {frame_, scene.means, scene.shapes, scene.sh, splats_, touched_, rects_},
+                      (n + 255) / 256);
+        cmd_.begin_pass("scan");
+        scan_.exclusive(cmd_, touched_, offsets_, n, &counters_, 0);
+        cmd_.begin_pass("emit");
+        cmd_.dispatch("render/emit_keys", {frame_, splats_, touched_, offsets_, rects_, keys_, values_}, (n + 255) / 256);
+        cmd_.begin_pass("sort");
+        sort_.sort_indirect(cmd_, keys_, values_, counters_, 0, capacity_, key_bits, sort::KeyWidth::Bits64);
+        cmd_.begin_pass("ranges");
+        cmd_.fill(ranges_, 0);
+        cmd_.dispatch("common/indirect_args", {counters_, args_}, ArgsPush{0, 256, group_limit, 0, capacity_}, 1);
+        cmd_.dispatch_indirect("render/tile_ranges", {frame_, counters_, keys_, ranges_}, args_);
+        cmd_.begin_pass("blend");
+        cmd_.dispatch_2d("render/blend", {frame_, splats_, values_, ranges_, image_, aux_}, tiles_x, tiles_y);
+        cmd_.end_pass();
+        cmd_.submit_and_wait();
+        timings_ = cmd_.timings();
+        key_count_ = vk::download_vector<uint32_t>(ctx_, counters_, 1)[0];
+        if (key_count_ <= capacity_) break;
+        if (++retries_ > 3) throw std::runtime_error("renderer: key buffer kept overflowing");
+        uint64_t grown = uint64_t(key_count_) + key_count_ / 4;
+        uint64_t max_keys = ctx_.info().max_storage_buffer_range / 8;
+        if (uint64_t(key_count_) > max_keys)
+            throw std::runtime_error("frame needs " + std::to_string(key_count_) + " tile keys, more than the device can bind (" +
+                                     std::to_string(max_keys) + "); render at a lower resolution");
+        capacity_ = uint32_t(std::min(grown, max_keys));
+    }
+}
+
+RenderImages Renderer::read() const {
+    RenderImages out;
+    out.width = width_;
+    out.height = height_;
+    const size_t pixels = size_t(width_) * size_t(height_);
+    out.rgba = vk::download_vector<float>(ctx_, image_, pixels * 4);
+    auto aux = vk::download_vector<glm::uvec4>(ctx_, aux_, pixels);
+    out.depth.resize(pixels);
+    out.tau_depth.resize(pixels);
+    out.tau_id.resize(pixels);
+    out.contributors.resize(pixels);
+    for (size_t p = 0; p < pixels; ++p) {
+        out.depth[p] = std::bit_cast<float>(aux[p].x);
+        out.tau_depth[p] = std::bit_cast<float>(aux[p].y);
+        out.tau_id[p] = aux[p].z == gpu::kNoGaussian ? -1 : int32_t(aux[p].z);
+        out.contributors[p] = aux[p].w;
+    }
+    return out;
+}
+
+}  // namespace pg::render

@@ -1,0 +1,66 @@
+#pragma once
+// The tile-based 3DGS splat renderer: preprocess -> prefix sum -> key emission -> radix sort
+// -> tile ranges -> blend, recorded into one command list with no host round trip between
+// passes. If the keys overflow their buffer the frame is rendered again with larger ones.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "dataset/camera.h"
+#include "engine/render/gpu_scene.h"
+#include "engine/sort/prefix_sum.h"
+#include "engine/sort/radix_sort.h"
+#include "engine/vk/commands.h"
+
+namespace pg::render {
+
+struct RenderSettings {
+    int width = 0, height = 0;     // 0: the camera's own size (intrinsics scale with it)
+    glm::vec3 background{0.0f};
+    float tau = 0.9f;              // opacity at which the tau-depth and picking id are taken
+    bool antialiased = false;      // Mip-Splatting opacity compensation
+    int max_sh_degree = 3;
+    float near = 0.2f;
+};
+
+// Host copies of a frame's outputs; pixels row-major, top row first.
+struct RenderImages {
+    int width = 0, height = 0;
+    std::vector<float> rgba;                 // 4 per pixel: colour over the background, alpha
+    std::vector<float> depth;                // expected view-space depth (0 where empty)
+    std::vector<float> tau_depth;            // depth where accumulated opacity first reaches tau, else 0
+    std::vector<int32_t> tau_id;             // Gaussian index there, -1 if never reached
+    std::vector<uint32_t> contributors;      // Gaussians blended into the pixel
+};
+
+class Renderer {
+public:
+    explicit Renderer(vk::Context& ctx);
+
+    // Renders one frame on the GPU and waits for it; outputs stay on the device until read().
+    void render(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings);
+    RenderImages read() const;
+
+    const std::vector<vk::PassTiming>& timings() const { return timings_; }
+    uint32_t key_count() const { return key_count_; }
+    int retries() const { return retries_; }
+    int width() const { return width_; }
+    int height() const { return height_; }
+    // Device outputs, for passes that consume a frame without reading it back.
+    const vk::Buffer& image_buffer() const { return image_; }  // vec4 per pixel
+    const vk::Buffer& aux_buffer() const { return aux_; }      // uvec4: depth, tau-depth bits, tau id, contributors
+
+private:
+    vk::Context& ctx_;
+    vk::CommandList cmd_;
+    sort::PrefixSum scan_;
+    sort::RadixSort sort_;
+    vk::Buffer frame_, splats_, touched_, offsets_, rects_, counters_, args_, keys_, values_, ranges_, image_, aux_;
+    uint32_t capacity_ = 0, key_count_ = 0;
+    int width_ = 0, height_ = 0, retries_ = 0;
+    std::vector<vk::PassTiming> timings_;
+};
+
+}  // namespace pg::render

@@ -1,0 +1,57 @@
+// Layouts and constants shared by the splat renderer's C++ and GLSL: one definition, no drift.
+// Only vec4/mat4/uvec4-aligned members, so std430 and C++ agree byte for byte.
+#ifndef PG_RENDER_SHARED_H
+#define PG_RENDER_SHARED_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace pg::render::gpu {
+using vec2 = glm::vec2;
+using vec4 = glm::vec4;
+using uvec2 = glm::uvec2;
+using uvec4 = glm::uvec4;
+using mat4 = glm::mat4;
+using uint = uint32_t;
+#define PG_CONST inline constexpr
+#else
+#define PG_CONST const
+#endif
+
+PG_CONST uint kTileSize = 16;
+PG_CONST uint kBlendGroup = kTileSize * kTileSize;  // one thread per pixel of a tile
+PG_CONST float kAlphaMax = 0.99;                    // opacity clamp of the 3DGS model
+PG_CONST float kAlphaMin = 1.0 / 255.0;             // contributions below are skipped
+PG_CONST float kTransmittanceMin = 0.0001;          // a pixel stops here
+PG_CONST float kLowPass = 0.3;                      // added to the 2D covariance diagonal
+PG_CONST float kFovClamp = 1.3;                     // Jacobian clamp, in units of tan(fov/2)
+PG_CONST uint kNoGaussian = 0xFFFFFFFFu;
+
+// Per-frame parameters, in a small storage buffer every pass reads.
+struct FrameParams {
+    mat4 view;          // world to camera (OpenCV axes)
+    vec4 camera_pos;    // xyz: camera centre in world
+    vec4 intrinsics;    // fx, fy, cx, cy in pixels
+    vec4 background;    // rgb, w: tau (opacity at which the tau-depth is taken)
+    vec4 clip;          // x: near plane, y: tan(fov_x/2), z: tan(fov_y/2), w: unused
+    uvec4 size;         // width, height, tiles_x, tiles_y
+    uvec4 scene;        // gaussian count, SH floats per Gaussian, SH degree used, antialiased
+    uvec4 capacity;     // x: key capacity, y: device group-count limit
+};
+
+// One projected Gaussian, written by preprocess and read by emit_keys and blend.
+struct Splat {
+    vec2 mean;          // image position; pixel (i, j) has its centre at (i + 0.5, j + 0.5)
+    float depth;        // view-space z
+    float opacity;      // after the antialiasing compensation
+    vec4 conic;         // inverse 2D covariance (a, b, c) and w: the squared Mahalanobis extent
+    vec4 color;         // rgb from SH, w: unused
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(FrameParams) == 176);
+static_assert(sizeof(Splat) == 48);
+}  // namespace pg::render::gpu
+#endif
+#undef PG_CONST
+#endif
