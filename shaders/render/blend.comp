@@ -1,6 +1,7 @@
 #version 450
 // Front-to-back blending, one workgroup per 16x16 tile: splats are staged through shared
-// memory in batches, and the group stops once every pixel is saturated.
+// memory in batches, and the group stops once every pixel is saturated. The inner loop is
+// branch-free: SIMD drivers (lavapipe) run divergent lanes in lockstep anyway.
 #extension GL_GOOGLE_include_directive : require
 #include "render/render_shared.h"
 
@@ -12,8 +13,11 @@ layout(std430, binding = 3) readonly buffer Ranges { uvec2 ranges[]; };
 layout(std430, binding = 4) writeonly buffer Image { vec4 image[]; };   // rgb, alpha
 layout(std430, binding = 5) writeonly buffer Aux { uvec4 aux[]; };     // depth, tau-depth, tau-id, contributors
 
-shared Splat batch[kBlendGroup];
-shared uint batch_id[kBlendGroup];
+// Structure of arrays: each lane reads the same element, one vec4 at a time.
+shared vec4 s_mean_opacity[kBlendGroup];  // mean.xy, opacity, depth
+shared vec4 s_conic[kBlendGroup];         // a, b, c, unused
+shared vec4 s_color[kBlendGroup];         // rgb, unused
+shared uint s_id[kBlendGroup];
 shared uint done_count;
 
 void main() {
@@ -42,35 +46,39 @@ void main() {
         uint k = start + gl_LocalInvocationIndex;
         if (k < range.y) {
             uint id = values[k];
-            batch_id[gl_LocalInvocationIndex] = id;
-            batch[gl_LocalInvocationIndex] = splats[id];
+            Splat sp = splats[id];
+            s_mean_opacity[gl_LocalInvocationIndex] = vec4(sp.mean, sp.opacity, sp.depth);
+            s_conic[gl_LocalInvocationIndex] = sp.conic;
+            s_color[gl_LocalInvocationIndex] = sp.color;
+            s_id[gl_LocalInvocationIndex] = id;
         }
         barrier();
+        if (done) continue;
         uint count = min(kBlendGroup, range.y - start);
-        for (uint j = 0u; !done && j < count; ++j) {
-            vec2 d = batch[j].mean - center;
-            vec4 con = batch[j].conic;
+        for (uint j = 0u; j < count; ++j) {
+            vec4 mo = s_mean_opacity[j];
+            vec4 con = s_conic[j];
+            vec2 d = mo.xy - center;
             float power = -0.5 * (con.x * d.x * d.x + con.z * d.y * d.y) - con.y * d.x * d.y;
-            if (power > 0.0) continue;
-            float alpha = min(kAlphaMax, batch[j].opacity * exp(power));
-            if (alpha < kAlphaMin) continue;
+            float alpha = min(kAlphaMax, mo.z * exp(min(power, 0.0)));
             float test_T = T * (1.0 - alpha);
-            if (test_T < kTransmittanceMin) {
+            bool use = power <= 0.0 && alpha >= kAlphaMin;
+            // The Gaussian that would push T under the floor is not blended; the pixel is done.
+            if (use && test_T < kTransmittanceMin) {
                 done = true;
-                atomicAdd(done_count, 1u);
                 break;
             }
-            float w = alpha * T;
-            C += batch[j].color.rgb * w;
-            D += batch[j].depth * w;
+            float w = use ? alpha * T : 0.0;
+            C += s_color[j].rgb * w;
+            D += mo.w * w;
             Wsum += w;
-            ++contributors;
-            T = test_T;
-            if (tau_id == kNoGaussian && 1.0 - T >= tau) {
-                tau_id = batch_id[j];
-                tau_depth = batch[j].depth;
-            }
+            contributors += use ? 1u : 0u;
+            T = use ? test_T : T;
+            bool hit = use && tau_id == kNoGaussian && 1.0 - T >= tau;
+            tau_id = hit ? s_id[j] : tau_id;
+            tau_depth = hit ? mo.w : tau_depth;
         }
+        if (done) atomicAdd(done_count, 1u);
     }
     if (!inside) return;
     uint p = pix.y * width + pix.x;
