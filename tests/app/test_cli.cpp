@@ -1,0 +1,148 @@
+// End-to-end tests of the pointgauss CLI: real processes, real files, exit codes.
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+#include <nlohmann/json.hpp>
+
+#include "dataset/atomic_file.h"
+#include "dataset/image_io.h"
+#include "tests/test_paths.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+    int code;
+    std::string out;  // stdout and stderr together
+};
+
+Run run(const std::string& args) {
+    std::string cmd = std::string(PG_CLI) + " " + args + " 2>&1";
+    Run r{0, {}};
+    FILE* p = popen(cmd.c_str(), "r");
+    REQUIRE(p);
+    std::array<char, 4096> buf;
+    size_t n;
+    while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+    int status = pclose(p);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+    return r;
+}
+
+std::string sample() { return (pg::test::source_dir() / "assets/sample").string(); }
+
+size_t count_lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
+
+}  // namespace
+
+TEST_CASE("the bundled sample scene is exactly what its generator makes") {
+    auto dir = pg::test::scratch("cli-sample");
+    auto r = run("make-sample --out " + dir.string());
+    REQUIRE(r.code == 0);
+    CHECK(pg::data::read_file(dir / "scene.ply") == pg::data::read_file(sample() + "/scene.ply"));
+    CHECK(pg::data::read_file(dir / "cameras.json") == pg::data::read_file(sample() + "/cameras.json"));
+}
+
+TEST_CASE("info reports the sample scene's count, SH degree and cameras") {
+    auto r = run("info " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("gaussians  29603") != std::string::npos);
+    CHECK(r.out.find("sh degree  1") != std::string::npos);
+    CHECK(r.out.find("cameras    24") != std::string::npos);
+    CHECK(r.out.find("instance:int") != std::string::npos);
+}
+
+TEST_CASE("render writes one PNG per output and view, named after the cameras") {
+    auto dir = pg::test::scratch("cli-render");
+    fs::remove_all(dir);
+    auto r = run("render " + sample() + "/scene.ply --cameras " + sample() +
+                 "/sparse/0 --views 0,view_003 --width 160 --height 120 --outputs rgb,alpha,depth --out " + dir.string());
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    for (auto name : {"view_000", "view_003"}) {
+        auto rgb = pg::data::read_png8(dir / (std::string(name) + ".png"));
+        CHECK(rgb.width == 160);
+        CHECK(rgb.height == 120);
+        // The table and objects cover the centre of the frame: not background.
+        size_t centre = (60 * 160 + 80) * size_t(rgb.channels);
+        CHECK(int(rgb.pixels[centre]) + rgb.pixels[centre + 1] + rgb.pixels[centre + 2] > 30);
+        CHECK(fs::exists(dir / (std::string(name) + ".alpha.png")));
+        CHECK(fs::exists(dir / (std::string(name) + ".depth.png")));
+    }
+    auto report = nlohmann::json::parse(pg::data::read_text_file(dir / "render.json"));
+    CHECK(report["views"].size() == 2);
+    CHECK(report["views"][0]["depth_max"].get<double>() > 0.5);
+}
+
+TEST_CASE("bad input is one clear line, a non-zero exit and no output") {
+    auto dir = pg::test::scratch("cli-errors");
+    auto corpus = pg::test::fixtures() / "malformed";
+    const std::string cams = sample() + "/cameras.json";
+    struct Case {
+        std::string args, must_name;
+    };
+    std::vector<Case> cases = {
+        {"render /no/such/scene.ply --cameras " + cams, "/no/such/scene.ply"},
+        {"render " + sample() + "/scene.ply --cameras /no/such/cameras.json", "/no/such/cameras.json"},
+        {"render " + sample() + "/scene.ply --cameras " + cams + " --views 99", "--views"},
+        {"render " + sample() + "/scene.ply --cameras " + cams + " --views nope", "--views"},
+        {"render " + sample() + "/scene.ply --cameras " + cams + " --outputs rgb,normals", "--outputs"},
+        {"render " + sample() + "/scene.ply --cameras " + cams + " --width 100", "--width"},
+        {"render " + sample() + "/scene.ply --cameras " + cams + " --background 1,2", "--background"},
+        {"render " + cams + " --cameras " + cams, cams},
+        {"info " + sample() + "/scene.ply --cameras " + sample(), ""},  // a folder with sparse/0 is fine
+    };
+    for (auto& c : cases) {
+        auto out = dir / "out";
+        fs::remove_all(out);
+        auto r = run(c.args + (c.args.rfind("render", 0) == 0 ? " --out " + out.string() : ""));
+        INFO(c.args << "\n" << r.out);
+        if (c.must_name.empty()) {
+            CHECK(r.code == 0);
+            continue;
+        }
+        CHECK(r.code != 0);
+        CHECK(r.out.find("error: ") != std::string::npos);
+        CHECK(r.out.find(c.must_name) != std::string::npos);
+        CHECK(count_lines(r.out) == 1);
+        CHECK_FALSE(fs::exists(out / "view_000.png"));
+    }
+}
+
+TEST_CASE("every malformed scene in the corpus fails info with a message naming it") {
+    auto corpus = pg::test::fixtures() / "malformed" / "scenes";
+    if (!fs::exists(corpus)) return;
+    size_t n = 0;
+    for (auto& e : fs::directory_iterator(corpus)) {
+        if (!e.is_regular_file()) continue;
+        auto r = run("info " + e.path().string());
+        INFO(e.path() << "\n" << r.out);
+        CHECK(r.code == 1);
+        CHECK(r.out.find(e.path().filename().string()) != std::string::npos);
+        ++n;
+    }
+    CHECK(n > 10);
+}
+
+TEST_CASE("orbit writes cameras that see the scene, and bench prints JSON") {
+    auto dir = pg::test::scratch("cli-orbit");
+    auto cams = (dir / "orbit.json").string();
+    auto r = run("orbit " + sample() + "/scene.ply --out " + cams + " --count 3 --width 96 --height 64 --up -y");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    auto b = run("bench render " + sample() + "/scene.ply --cameras " + cams + " --frames 2 --warmup 0 --json");
+    INFO(b.out);
+    REQUIRE(b.code == 0);
+    auto j = nlohmann::json::parse(b.out);
+    CHECK(j["width"] == 96);
+    CHECK(j["gpu_ms"]["blend"].get<double>() >= 0.0);
+    CHECK(j["tile_keys"].get<int>() > 0);
+    CHECK(j["peak_device_bytes"].get<double>() > 0.0);
+}
