@@ -79,7 +79,7 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     aux_.ensure(pixels * 16);
     if (capacity_ == 0) capacity_ = std::max<uint32_t>(1024, std::min<uint64_t>(uint64_t(n) * 4, 1u << 24));
 
-    const uint32_t key_bits = 32 + std::max(1, int(std::bit_width(tiles - 1)));
+    const uint32_t key_bits = 32 + std::max(1, int(std::bit_width(tiles)));  // tile ids 0..tiles (padding)
     const uint32_t group_limit = ctx_.max_group_count_x();
     retries_ = 0;
     for (;;) {

@@ -4,6 +4,7 @@
 #include "common/dispatch.glsl"
 #include "render/render_shared.h"
 #include "render/sh.glsl"
+#include "render/tile_test.glsl"
 
 layout(local_size_x = 256) in;
 layout(std430, binding = 0) readonly buffer Frame { FrameParams frame; };
@@ -88,6 +89,16 @@ void main() {
     sp.conic = vec4(c * inv, -b * inv, a * inv, extent2);
     sp.color = vec4(color, 0.0);
     splats[i] = sp;
-    touched[i] = (tmax.x - tmin.x + 1u) * (tmax.y - tmin.y + 1u);
+    // Count only the tiles the ellipse reaches: a rotated, elongated Gaussian's bounding
+    // rectangle holds many it does not (emit_keys runs the same test).
+    uint n = (tmax.x - tmin.x + 1u) * (tmax.y - tmin.y + 1u);
+    if (n > 2u) {
+        vec3 q = sp.conic.xyz;
+        n = 0u;
+        for (uint ty = tmin.y; ty <= tmax.y; ++ty)
+            for (uint tx = tmin.x; tx <= tmax.x; ++tx)
+                n += pg_ellipse_hits_tile(mean, q, extent2, uvec2(tx, ty), frame.size.xy) ? 1u : 0u;
+    }
+    touched[i] = n;
     rects[i] = uvec2(tmin.x | (tmin.y << 16), tmax.x | (tmax.y << 16));
 }

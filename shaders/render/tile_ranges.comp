@@ -15,6 +15,7 @@ void main() {
     uint n = min(counts[0], frame.capacity.x);
     if (i >= n) return;
     uint tile = keys[i].y;
+    if (tile >= frame.size.z * frame.size.w) return;  // padding from emit_keys
     if (i == 0u || keys[i - 1u].y != tile) ranges[tile].x = i;
     if (i == n - 1u || keys[i + 1u].y != tile) ranges[tile].y = i + 1u;
 }
