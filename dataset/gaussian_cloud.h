@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -23,6 +24,10 @@ struct ExtraProperty {
     PlyType type = PlyType::Float32;
     std::vector<double> values;  // size == GaussianCloud::size()
 };
+
+// True for the names the loader interprets (x, y, z, f_dc_N, f_rest_N, opacity, scale_N,
+// rot_N); set_int_property refuses them.
+bool is_gaussian_property_name(std::string_view name);
 
 enum class SceneFormat { InriaPly, InriaPlyAscii, TwoDgsPly, CompressedPly, Splat, Spz, Synthetic };
 const char* scene_format_name(SceneFormat f);
@@ -58,10 +63,17 @@ struct GaussianCloud {
     // Adds or replaces an integer per-Gaussian property (e.g. "instance", "class").
     void set_int_property(const std::string& name, const std::vector<int32_t>& values,
                           PlyType type = PlyType::Int32);
+    // The values of an extra as integers; nullopt if it is missing or holds a non-integer.
     std::optional<std::vector<int32_t>> int_property(const std::string& name) const;
 };
 
 // SH band 0 constant: colour = 0.5 + kShC0 * f_dc.
 constexpr float kShC0 = 0.28209479177387814f;
+
+// Opacity from its logit (the sigmoid), and back. The inverse clamps the opacity to
+// [1e-4, 1 - 1e-4] (logits within +-9.21), so 8-bit alphas of 0 and 255 in the packed
+// formats stay finite.
+float opacity_from_logit(float logit);
+float logit_from_opacity(float opacity);
 
 }  // namespace pg::data

@@ -2,6 +2,7 @@
 // Reading and writing 3DGS scenes. Every reader throws InputError naming the file and the
 // problem on malformed input; none crashes or reads past the data.
 #include <filesystem>
+#include <string>
 
 #include "dataset/gaussian_cloud.h"
 
@@ -14,9 +15,14 @@ GaussianCloud read_ply(const std::filesystem::path& path);        // INRIA, 2DGS
 GaussianCloud read_splat(const std::filesystem::path& path);      // antimatter15 .splat
 GaussianCloud read_spz(const std::filesystem::path& path);        // Niantic .spz (gzip)
 
+// Throws InputError(where, ...) naming the Gaussian and the property if a mean, scale,
+// rotation or opacity logit is not finite, or a rotation quaternion has zero length.
+// Every reader runs it on what it loaded.
+void validate_cloud(const GaussianCloud& cloud, const std::string& where);
+
 // Writes a binary little-endian INRIA PLY. Properties the cloud was read with keep their
 // order and type; extras not in that order follow. Written to a temporary file and renamed,
-// so a failure leaves no partial output. Refuses to overwrite `protect` if given.
+// so a failure leaves no partial output. Known properties are written as float.
 void write_ply(const GaussianCloud& cloud, const std::filesystem::path& path);
 
 }  // namespace pg::data
