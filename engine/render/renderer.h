@@ -1,6 +1,6 @@
 #pragma once
-// The tile-based 3DGS splat renderer: preprocess -> prefix sum -> key emission -> radix sort
-// -> tile ranges -> blend, recorded into one command list with no host round trip between
+// The tile-based 3DGS splat renderer: preprocess -> depth sort -> prefix sum -> key emission ->
+// tile sort -> tile ranges -> blend, recorded into one command list with no host round trip between
 // passes. If the keys overflow their buffer the frame is rendered again with larger ones.
 #include <cstdint>
 #include <memory>
@@ -58,6 +58,7 @@ private:
     sort::PrefixSum scan_;
     sort::RadixSort sort_;
     vk::Buffer frame_, splats_, touched_, offsets_, rects_, counters_, args_, keys_, values_, ranges_, image_, aux_;
+    vk::Buffer depth_keys_, order_, touched_sorted_;
     uint32_t capacity_ = 0, key_count_ = 0;
     int width_ = 0, height_ = 0, retries_ = 0;
     std::vector<vk::PassTiming> timings_;

@@ -1,7 +1,7 @@
 #version 450
-// Writes one (tile | depth, gaussian) pair per tile a Gaussian touches, at the offsets of
-// the prefix sum over touched counts: keys come out in Gaussian order, so the stable sort
-// breaks depth ties by index, as the CPU reference does.
+// Writes one (tile, gaussian) pair per tile a Gaussian touches. Thread k handles the k-th
+// nearest Gaussian at the offset of the prefix sum in depth order, so a stable sort on the
+// tile id alone leaves each tile's Gaussians front to back, ties by index as in the reference.
 #extension GL_GOOGLE_include_directive : require
 #include "common/dispatch.glsl"
 #include "render/render_shared.h"
@@ -10,37 +10,35 @@
 layout(local_size_x = 256) in;
 layout(std430, binding = 0) readonly buffer Frame { FrameParams frame; };
 layout(std430, binding = 1) readonly buffer Splats { Splat splats[]; };
-layout(std430, binding = 2) readonly buffer Touched { uint touched[]; };
-layout(std430, binding = 3) readonly buffer Offsets { uint offsets[]; };
-layout(std430, binding = 4) readonly buffer Rects { uvec2 rects[]; };
-layout(std430, binding = 5) writeonly buffer Keys { uvec2 keys[]; };     // (depth bits, tile)
-layout(std430, binding = 6) writeonly buffer Values { uint values[]; };
+layout(std430, binding = 2) readonly buffer Order { uint order[]; };
+layout(std430, binding = 3) readonly buffer Touched { uint touched_sorted[]; };
+layout(std430, binding = 4) readonly buffer Offsets { uint offsets[]; };
+layout(std430, binding = 5) readonly buffer Rects { uvec2 rects[]; };
+layout(std430, binding = 6) writeonly buffer Keys { uint keys[]; };     // tile id
+layout(std430, binding = 7) writeonly buffer Values { uint values[]; }; // Gaussian index
 
 void main() {
-    uint i = pg_global_index();
-    if (i >= frame.scene.x || touched[i] == 0u) return;
-    uint out_index = offsets[i];
-    uint out_end = out_index + touched[i];
-    uint capacity = frame.capacity.x;
-    // Depths are > near > 0, so their float bits order like the floats.
-    uint depth_bits = floatBitsToUint(splats[i].depth);  // read once below too
+    uint k = pg_global_index();
+    if (k >= frame.scene.x || touched_sorted[k] == 0u) return;
+    uint i = order[k];
+    uint out_index = offsets[k];
+    uint out_end = min(out_index + touched_sorted[k], frame.capacity.x);  // past capacity: the host renders again
+    Splat sp = splats[i];
     uvec2 r = rects[i];
     uint x0 = r.x & 0xFFFFu, y0 = r.x >> 16, x1 = r.y & 0xFFFFu, y1 = r.y >> 16;
-    Splat sp = splats[i];
-    vec3 q = sp.conic.xyz;
     bool test = (x1 - x0 + 1u) * (y1 - y0 + 1u) > 2u;  // the same rule as preprocess
     for (uint ty = y0; ty <= y1; ++ty)
         for (uint tx = x0; tx <= x1; ++tx) {
-            if (test && !pg_ellipse_hits_tile(sp.mean, q, sp.conic.w, uvec2(tx, ty), frame.size.xy)) continue;
-            if (out_index >= min(out_end, capacity)) return;  // overflow: the host grows the buffers and renders again
-            keys[out_index] = uvec2(depth_bits, ty * frame.size.z + tx);
+            if (test && !pg_ellipse_hits_tile(sp.mean, sp.conic.xyz, sp.conic.w, uvec2(tx, ty), frame.size.xy)) continue;
+            if (out_index >= out_end) return;
+            keys[out_index] = ty * frame.size.z + tx;
             values[out_index] = i;
             ++out_index;
         }
     // Should the tile test ever disagree with preprocess's count, the unused slots get a
     // tile id past the last one, which tile_ranges ignores.
-    for (; out_index < min(out_end, capacity); ++out_index) {
-        keys[out_index] = uvec2(0xFFFFFFFFu, frame.size.z * frame.size.w);
+    for (; out_index < out_end; ++out_index) {
+        keys[out_index] = frame.size.z * frame.size.w;
         values[out_index] = i;
     }
 }

@@ -14,15 +14,19 @@ layout(std430, binding = 3) readonly buffer Coeffs { float sh[]; };
 layout(std430, binding = 4) writeonly buffer Splats { Splat splats[]; };
 layout(std430, binding = 5) writeonly buffer Touched { uint touched[]; };
 layout(std430, binding = 6) writeonly buffer Rects { uvec2 rects[]; };   // tile rect: min | max, 16 bits each
+layout(std430, binding = 7) writeonly buffer DepthKeys { uint depth_keys[]; };  // sorted to order Gaussians
+layout(std430, binding = 8) writeonly buffer Order { uint order[]; };
 
 void cull(uint i) {
     touched[i] = 0u;
     rects[i] = uvec2(0u);
+    depth_keys[i] = 0xFFFFFFFFu;  // after every visible one
 }
 
 void main() {
     uint i = pg_global_index();
     if (i >= frame.scene.x) return;
+    order[i] = i;
 
     vec4 m = means[i];
     vec3 p = (frame.view * vec4(m.xyz, 1.0)).xyz;
@@ -100,5 +104,7 @@ void main() {
                 n += pg_ellipse_hits_tile(mean, q, extent2, uvec2(tx, ty), frame.size.xy) ? 1u : 0u;
     }
     touched[i] = n;
+    // Depths are > near > 0, so their float bits order like the floats.
+    depth_keys[i] = floatBitsToUint(p.z);
     rects[i] = uvec2(tmin.x | (tmin.y << 16), tmax.x | (tmax.y << 16));
 }
