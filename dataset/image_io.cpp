@@ -153,6 +153,39 @@ Image8 read_png8(const fs::path& path) {
     return img;
 }
 
+Image16 read_png16(const fs::path& path) {
+    const auto data = read_file(path);
+    if (data.size() > size_t(INT_MAX)) throw InputError(path.string(), "file too large to decode");
+    const auto* bytes = reinterpret_cast<const stbi_uc*>(data.data());
+    const int size = int(data.size());
+    const bool wide = stbi_is_16_bit_from_memory(bytes, size);
+    // stb rescales 1-, 2- and 4-bit grey to 0..255, which would change ids: refuse them.
+    // The bit depth is the first byte after the IHDR chunk's width and height.
+    if (data.size() > 24 && std::string(data.data() + 12, 4) == "IHDR" && uint8_t(data[24]) < 8)
+        throw InputError(path.string(),
+                         "a " + std::to_string(int(data[24])) + "-bit PNG cannot hold mask ids (8 or 16 bits)");
+    int w = 0, h = 0, comp = 0;
+    void* pixels = wide ? static_cast<void*>(stbi_load_16_from_memory(bytes, size, &w, &h, &comp, 0))
+                        : static_cast<void*>(stbi_load_from_memory(bytes, size, &w, &h, &comp, 0));
+    if (!pixels) {
+        const char* why = stbi_failure_reason();
+        throw InputError(path.string(), std::string("cannot decode image: ") + (why ? why : "unknown error"));
+    }
+    Image16 img;
+    img.width = w;
+    img.height = h;
+    const size_t n = size_t(w) * size_t(h);
+    if (comp == 1) {
+        if (wide) img.pixels.assign(static_cast<const uint16_t*>(pixels), static_cast<const uint16_t*>(pixels) + n);
+        else img.pixels.assign(static_cast<const uint8_t*>(pixels), static_cast<const uint8_t*>(pixels) + n);
+    }
+    stbi_image_free(pixels);
+    if (comp != 1)
+        throw InputError(path.string(), "expected a single-channel grey image, found " + std::to_string(comp) +
+                                            " channels");
+    return img;
+}
+
 std::vector<uint8_t> to_8bit(const std::vector<float>& values) {
     std::vector<uint8_t> out(values.size());
     for (size_t i = 0; i < values.size(); ++i) {
