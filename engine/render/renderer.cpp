@@ -130,6 +130,9 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     }
 }
 
+uint32_t Renderer::tiles_x() const { return (uint32_t(width_) + gpu::kTileSize - 1) / gpu::kTileSize; }
+uint32_t Renderer::tiles_y() const { return (uint32_t(height_) + gpu::kTileSize - 1) / gpu::kTileSize; }
+
 RenderImages Renderer::read() const {
     RenderImages out;
     out.width = width_;

@@ -51,6 +51,13 @@ public:
     // Device outputs, for passes that consume a frame without reading it back.
     const vk::Buffer& image_buffer() const { return image_; }  // vec4 per pixel
     const vk::Buffer& aux_buffer() const { return aux_; }      // uvec4: depth, tau-depth bits, tau id, contributors
+    // The last frame's binning, for passes that walk the same per-tile lists (label rasterization).
+    const vk::Buffer& frame_buffer() const { return frame_; }  // gpu::FrameParams
+    const vk::Buffer& splat_buffer() const { return splats_; } // gpu::Splat per Gaussian (valid where it touches a tile)
+    const vk::Buffer& tile_values() const { return values_; }  // Gaussian ids, tile-major, front to back
+    const vk::Buffer& tile_ranges() const { return ranges_; }  // uvec2 [start, end) into tile_values() per tile
+    uint32_t tiles_x() const;
+    uint32_t tiles_y() const;
 
 private:
     vk::Context& ctx_;
