@@ -1,0 +1,5 @@
+#version 450
+// Radix sort pass, step 2, for GPUs: see sort/radix_scatter.glsl.
+#extension GL_GOOGLE_include_directive : require
+#define PG_RADIX_EXCHANGE 1
+#include "sort/radix_scatter.glsl"
