@@ -1,0 +1,19 @@
+#pragma once
+// The four suites' scene builders: each makes a Layout in canonical coordinates (z up).
+#include <cstdint>
+
+#include "dataset/synth/layout.h"
+
+namespace pg::data::synth {
+
+Layout build_desk(uint64_t seed);       // metres: 7-10 objects on a 1.5 m table in a room
+Layout build_vehicles(uint64_t seed);   // metres: 3-4 cars parked along a kerb
+Layout build_residence(uint64_t seed);  // metres: 7-10 houses on rolling terrain, with trees
+Layout build_campus(uint64_t seed);     // metres: buildings (class 1) in a few hundred metres of campus
+
+std::vector<ClassInfo> desk_classes();
+std::vector<ClassInfo> vehicles_classes();
+std::vector<ClassInfo> residence_classes();
+std::vector<ClassInfo> campus_classes();
+
+}  // namespace pg::data::synth
