@@ -22,6 +22,8 @@ void register_bench(CLI::App& app, std::function<void()>& run);
 void register_cameras(CLI::App& app, std::function<void()>& run);
 void register_eval(CLI::App& app, std::function<void()>& run);
 void register_synth(CLI::App& app, std::function<void()>& run);
+void register_segment(CLI::App& app, std::function<void()>& run);
+void register_prompts(CLI::App& app, std::function<void()>& run);
 
 // "-y", "z", or "x,y,z" -> a unit vector; InputError naming --up otherwise.
 glm::dvec3 parse_up(const std::string& s);

@@ -18,6 +18,10 @@ int main(int argc, char** argv) {
     pg::app::register_render(app, run);
     pg::app::register_bench(app, run);
     pg::app::register_cameras(app, run);
+    pg::app::register_synth(app, run);
+    pg::app::register_eval(app, run);
+    pg::app::register_segment(app, run);
+    pg::app::register_prompts(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

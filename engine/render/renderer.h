@@ -43,6 +43,7 @@ public:
     void render(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings);
     RenderImages read() const;
 
+    vk::Context& context() const { return ctx_; }
     const std::vector<vk::PassTiming>& timings() const { return timings_; }
     uint32_t key_count() const { return key_count_; }
     int retries() const { return retries_; }

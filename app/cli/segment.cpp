@@ -1,0 +1,176 @@
+// pointgauss segment: clicks in, 3D labels and per-view masks out.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "app/cli/commands.h"
+#include "app/cli/progress.h"
+#include "dataset/atomic_file.h"
+#include "dataset/camera_io.h"
+#include "dataset/cloud_select.h"
+#include "dataset/error.h"
+#include "dataset/image_io.h"
+#include "dataset/prompts.h"
+#include "dataset/scene_io.h"
+#include "dataset/up_axis.h"
+#include "engine/segment/label_raster.h"
+#include "engine/segment/mask_refine.h"
+#include "engine/segment/mask_views.h"
+#include "engine/segment/segmenter.h"
+#include "engine/vk/context.h"
+
+namespace pg::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct SegmentArgs {
+    std::string scene, cameras, prompts, out, model, views = "all", mode = "occlusion", up = "cameras";
+    std::string roi, label_property = "instance";
+    double sigma = 0, scale = 0;
+    bool no_refine = false;
+    uint64_t seed = 1;
+    DeviceOptions device;
+};
+
+glm::dvec3 resolve_up(const std::string& spec, const std::vector<data::Camera>& cams, const data::GaussianCloud& cloud) {
+    if (spec == "cameras") return data::up_from_cameras(cams);
+    if (spec == "ground") return data::up_from_ground_plane(cloud);
+    return parse_up(spec);
+}
+
+std::string safe_file_name(std::string name) {
+    for (char& c : name)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.')) c = '_';
+    return name.empty() ? "object" : name;
+}
+
+void run_segment(const SegmentArgs& a) {
+    auto total_start = std::chrono::steady_clock::now();
+    if (a.model.empty())
+        throw data::InputError("--model", "no trained model is shipped yet; give --model ground-truth on a labelled "
+                                          "scene (an evaluation tool that reads the scene's own labels)");
+    if (a.model != "ground-truth")
+        throw data::InputError("--model", "'" + a.model + "': only the ground-truth decoder is available until the "
+                                                          "PTv3 decoder lands");
+    auto mode = seg::parse_label_mode(a.mode);
+    auto cloud = data::load_scene(a.scene);
+    auto cameras = data::load_cameras(a.cameras);
+    auto prompts = data::read_prompts(a.prompts);
+    std::vector<size_t> views;
+    if (a.views != "none") views = select_views(a.views, cameras);
+    seg::SegmentOptions o;
+    o.up = resolve_up(a.up, cameras, cloud);
+    o.sigma = a.sigma;
+    o.scale = a.scale;
+    o.seed = a.seed;
+    if (!a.roi.empty()) {
+        char extra;
+        if (std::sscanf(a.roi.c_str(), "%lf,%lf%c", &o.roi_length, &o.roi_width, &extra) != 2 ||
+            !(o.roi_length > 0 && o.roi_width > 0))
+            throw data::InputError("--roi", "expected length,width > 0, got '" + a.roi + "'");
+    }
+    auto gt = cloud.int_property(a.label_property);
+    if (!gt)
+        throw data::InputError(a.scene, "has no integer property '" + a.label_property +
+                                            "' for the ground-truth decoder");
+
+    fs::path out(a.out);
+    if (fs::exists(out) && !fs::is_directory(out)) throw data::InputError(a.out, "exists and is not a folder");
+    fs::create_directories(out);
+
+    vk::ContextOptions co;
+    co.device = a.device.device;
+    vk::Context ctx(co);
+    render::GpuScene scene(ctx, cloud);
+    seg::GroundTruthDecoder decoder(*gt);
+    seg::Segmenter segmenter(ctx, cloud, scene, cameras, decoder);
+    auto result = segmenter.segment(prompts, o);
+
+    nlohmann::json report;
+    report["scene"] = a.scene;
+    report["device"] = ctx.info().name;
+    report["decoder"] = decoder.name();
+    report["gaussians"] = cloud.size();
+    report["up"] = {o.up.x, o.up.y, o.up.z};
+    for (auto& obj : result.objects) {
+        nlohmann::json jo{{"id", obj.id},          {"name", obj.name},       {"roi_gaussians", obj.roi_gaussians},
+                          {"batches", obj.batches}, {"gaussians", obj.labelled}, {"sigma", obj.sigma},
+                          {"roi", {obj.roi.length, obj.roi.width}}};
+        for (auto& an : obj.anchors)
+            jo["anchors"].push_back({{"position", {an.position.x, an.position.y, an.position.z}},
+                                     {"positive", an.positive}, {"gaussian", an.gaussian}});
+        report["objects"].push_back(jo);
+    }
+
+    // 3D outputs: the scene with the labels, one standard 3DGS PLY per object.
+    auto t0 = std::chrono::steady_clock::now();
+    data::GaussianCloud labelled = cloud;
+    labelled.set_int_property("instance", result.labels);
+    data::write_ply(labelled, out / "scene.ply");
+    fs::create_directories(out / "objects");
+    for (auto& obj : result.objects) {
+        std::vector<uint32_t> idx;
+        for (uint32_t i = 0; i < result.labels.size(); ++i)
+            if (result.labels[i] == obj.id) idx.push_back(i);
+        data::write_ply(data::select_gaussians(cloud, idx), out / "objects" / (safe_file_name(obj.name) + ".ply"));
+    }
+    result.stage_ms["write 3D"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+    // 2D outputs: label rasterization and refinement on the GPU for every chosen view.
+    if (!views.empty()) {
+        seg::MaskViewsOptions mo;
+        mo.mode = mode;
+        mo.refine = !a.no_refine;
+        seg::MaskViews masker(ctx, scene, result.labels);
+        fs::create_directories(out / "masks");
+        fs::create_directories(out / "overlays");
+        Progress progress("masks", views.size());
+        for (size_t v : views) {
+            auto m = masker.render(cameras[v], mo);
+            data::write_png16(out / "masks" / (cameras[v].name + ".png"), m.width, m.height, m.mask16());
+            data::write_png8(out / "overlays" / (cameras[v].name + ".png"), m.width, m.height, 3, m.overlay());
+            progress.step(cameras[v].name);
+        }
+        progress.finish();
+        for (auto& [name, ms] : masker.stage_ms()) result.stage_ms[name] += ms;
+        report["views"] = views.size();
+    }
+    for (auto& [name, ms] : result.stage_ms) report["stage_ms"][name] = ms;
+    report["total_ms"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - total_start).count();
+    data::write_atomically(out / "report.json", [&](std::ostream& os) { os << report.dump(2) << "\n"; });
+    std::printf("segmented %zu object(s) (", result.objects.size());
+    for (size_t i = 0; i < result.objects.size(); ++i)
+        std::printf("%s%s: %zu Gaussians", i ? ", " : "", result.objects[i].name.c_str(), result.objects[i].labelled);
+    std::printf("), %zu view(s) of masks, into %s\n", views.size(), a.out.c_str());
+}
+
+}  // namespace
+
+void register_segment(CLI::App& app, std::function<void()>& run) {
+    auto a = std::make_shared<SegmentArgs>();
+    auto* cmd = app.add_subcommand("segment", "Segment objects from clicks: 3D labels, object PLYs, per-view masks");
+    cmd->add_option("scene", a->scene, "Scene file")->required();
+    cmd->add_option("--cameras", a->cameras, "Camera file or COLMAP folder")->required();
+    cmd->add_option("--prompts", a->prompts, "prompts.json: objects and their clicks")->required();
+    cmd->add_option("--out", a->out, "Output folder")->required();
+    cmd->add_option("--model", a->model, "Decoder: ground-truth (evaluation tool reading the scene's labels)");
+    cmd->add_option("--views", a->views, "Views to write masks for: all, none, or indices/names")->capture_default_str();
+    cmd->add_option("--mode", a->mode, "Label projection: occlusion or paper")->capture_default_str();
+    cmd->add_flag("--no-refine", a->no_refine, "Skip mask refinement");
+    cmd->add_option("--up", a->up, "Up axis: cameras, ground, or x,y,z / -y ...")->capture_default_str();
+    cmd->add_option("--scale", a->scale, "Typical object size (default: from the cameras)");
+    cmd->add_option("--sigma", a->sigma, "Click weight fall-off in scene units (default: 0.4 x scale)");
+    cmd->add_option("--roi", a->roi, "ROI length,width in scene units (default: 2.5 x scale each)");
+    cmd->add_option("--label-property", a->label_property, "Property the ground-truth decoder reads")
+        ->capture_default_str();
+    cmd->add_option("--seed", a->seed, "Partition seed")->capture_default_str();
+    add_device_option(*cmd, a->device);
+    cmd->callback([a, &run] { run = [a] { run_segment(*a); }; });
+}
+
+}  // namespace pg::app

@@ -1,0 +1,77 @@
+#include "engine/segment/mask_views.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "dataset/synth/contact_sheet.h"
+
+namespace pg::seg {
+
+std::vector<uint16_t> ViewMask::mask16() const {
+    std::vector<uint16_t> m(labels.size());
+    for (size_t i = 0; i < labels.size(); ++i) m[i] = uint16_t(std::min<uint32_t>(labels[i], 65535u));
+    return m;
+}
+
+std::vector<uint8_t> ViewMask::overlay() const {
+    std::vector<uint8_t> px(size_t(width) * height * 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            size_t p = size_t(y) * width + x;
+            uint32_t l = labels[p];
+            glm::vec3 rgb(rgba[p * 4], rgba[p * 4 + 1], rgba[p * 4 + 2]);
+            rgb = glm::clamp(rgb, 0.0f, 1.0f);
+            if (l != 0) {
+                glm::vec3 c = glm::vec3(data::synth::mask_colour(uint16_t(std::min<uint32_t>(l, 65535u)))) / 255.0f;
+                bool edge = (x > 0 && labels[p - 1] != l) || (x + 1 < width && labels[p + 1] != l) ||
+                            (y > 0 && labels[p - width] != l) || (y + 1 < height && labels[p + width] != l);
+                rgb = edge ? c : 0.45f * rgb + 0.55f * c;
+            }
+            for (int c = 0; c < 3; ++c) px[p * 3 + c] = uint8_t(std::lround(rgb[c] * 255.0f));
+        }
+    return px;
+}
+
+MaskViews::MaskViews(vk::Context& ctx, const render::GpuScene& scene, const std::vector<int32_t>& labels)
+    : ctx_(ctx),
+      scene_(scene),
+      renderer_(ctx),
+      rasterizer_(ctx),
+      refiner_(ctx),
+      cmd_(ctx),
+      raw_(ctx, 0, vk::MemoryUse::Device, "label image"),
+      refined_(ctx, 0, vk::MemoryUse::Device, "refined label image") {
+    std::vector<uint32_t> l(labels.size());
+    for (size_t i = 0; i < labels.size(); ++i) l[i] = uint32_t(std::max(0, labels[i]));
+    labels_ = vk::upload_vector(ctx, l, "gaussian labels");
+}
+
+ViewMask MaskViews::render(const data::Camera& camera, const MaskViewsOptions& o, bool read_rgba) {
+    renderer_.render(scene_, camera, o.render);
+    for (auto& t : renderer_.timings()) stage_ms_["render"] += t.ms;
+    const int w = renderer_.width(), h = renderer_.height();
+    cmd_.begin_pass("label raster");
+    rasterizer_.rasterize(cmd_, renderer_, labels_, raw_, o.mode);
+    const vk::Buffer* result = &raw_;
+    if (o.refine) {
+        cmd_.begin_pass("refine");
+        RefineOptions ro;
+        // The radii are in pixels of a 640-wide image; larger images close larger gaps.
+        int s = std::max(1, int(std::lround(w / 640.0)));
+        ro.closing_radii = {1 * s, 2 * s, 3 * s};
+        refined_.ensure(uint64_t(w) * h * 4);
+        refiner_.refine(cmd_, raw_, refined_, w, h, ro);
+        result = &refined_;
+    }
+    cmd_.end_pass();
+    cmd_.submit_and_wait();
+    for (auto& t : cmd_.timings()) stage_ms_[t.name] += t.ms;
+    ViewMask m;
+    m.width = w;
+    m.height = h;
+    m.labels = vk::download_vector<uint32_t>(ctx_, *result, size_t(w) * h);
+    if (read_rgba) m.rgba = vk::download_vector<float>(ctx_, renderer_.image_buffer(), size_t(w) * h * 4);
+    return m;
+}
+
+}  // namespace pg::seg

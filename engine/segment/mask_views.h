@@ -1,0 +1,49 @@
+#pragma once
+// Per-view 2D masks from 3D labels: render the view (for the binning and the colours),
+// rasterize the labels, refine the mask, all on the GPU; then read the mask back.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "dataset/camera.h"
+#include "engine/render/renderer.h"
+#include "engine/segment/label_raster.h"
+#include "engine/segment/mask_refine.h"
+
+namespace pg::seg {
+
+struct MaskViewsOptions {
+    LabelMode mode = LabelMode::Occlusion;
+    bool refine = true;
+    render::RenderSettings render;
+};
+
+struct ViewMask {
+    int width = 0, height = 0;
+    std::vector<uint32_t> labels;  // per pixel, row-major
+    std::vector<float> rgba;       // the render, for overlays
+    std::vector<uint16_t> mask16() const;
+    // The render with each object tinted in its colour and outlined.
+    std::vector<uint8_t> overlay() const;
+};
+
+class MaskViews {
+public:
+    MaskViews(vk::Context& ctx, const render::GpuScene& scene, const std::vector<int32_t>& labels);
+
+    ViewMask render(const data::Camera& camera, const MaskViewsOptions& options, bool read_rgba = true);
+    // GPU ms per stage summed over the views rendered so far.
+    const std::map<std::string, double>& stage_ms() const { return stage_ms_; }
+
+private:
+    vk::Context& ctx_;
+    const render::GpuScene& scene_;
+    render::Renderer renderer_;
+    LabelRasterizer rasterizer_;
+    MaskRefiner refiner_;
+    vk::CommandList cmd_;
+    vk::Buffer labels_, raw_, refined_;
+    std::map<std::string, double> stage_ms_;
+};
+
+}  // namespace pg::seg

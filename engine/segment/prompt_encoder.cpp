@@ -1,0 +1,101 @@
+#include "engine/segment/prompt_encoder.h"
+
+#include <cmath>
+
+#include "dataset/error.h"
+#include "engine/vk/context.h"
+
+namespace pg::seg {
+
+Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, const data::Camera& camera, double u,
+                  double v, bool positive, const render::RenderSettings& settings, const std::string& what) {
+    const int px = int(std::floor(u)), py = int(std::floor(v));
+    if (!std::isfinite(u) || !std::isfinite(v) || px < 0 || py < 0 || px >= camera.width || py >= camera.height)
+        throw data::InputError(what, "pixel (" + std::to_string(u) + ", " + std::to_string(v) + ") is off the " +
+                                         std::to_string(camera.width) + "x" + std::to_string(camera.height) +
+                                         " image of view " + camera.name);
+    render::RenderSettings s = settings;
+    s.width = s.height = 0;
+    renderer.render(scene, camera, s);
+    // One pixel of the aux image: depth, tau-depth, tau id, contributors.
+    auto aux = vk::download_vector<glm::uvec4>(renderer.context(), renderer.aux_buffer(), 1,
+                                               (uint64_t(py) * uint64_t(camera.width) + uint64_t(px)) * 16);
+    int32_t id = aux[0].z == 0xFFFFFFFFu ? -1 : int32_t(aux[0].z);
+    if (id < 0)
+        throw data::InputError(what, "the opacity along pixel (" + std::to_string(px) + ", " + std::to_string(py) +
+                                         ") of view " + camera.name + " never reaches tau = " +
+                                         std::to_string(settings.tau) + ": click on the object's surface");
+    const double z = double(std::bit_cast<float>(aux[0].y));
+    const glm::dvec3 cam((px + 0.5 - camera.cx) / camera.fx * z, (py + 0.5 - camera.cy) / camera.fy * z, z);
+    Anchor a;
+    a.position = glm::transpose(camera.R) * (cam - camera.t);
+    a.positive = positive;
+    a.gaussian = id;
+    return a;
+}
+
+namespace {
+struct WeightsPush {
+    uint32_t count, anchor_count;
+    float inv_two_sigma2, half_length, half_width, pad0, pad1, pad2;
+    glm::vec4 centre, length_axis, width_axis;
+};
+struct CompactPush {
+    uint32_t count;
+};
+}  // namespace
+
+PromptEncoder::PromptEncoder(vk::Context& ctx)
+    : ctx_(ctx),
+      cmd_(ctx),
+      scan_(ctx),
+      anchors_(ctx, 0, vk::MemoryUse::Device, "click anchors"),
+      weights_(ctx, 0, vk::MemoryUse::Device, "click weights"),
+      flags_(ctx, 0, vk::MemoryUse::Device, "roi flags"),
+      offsets_(ctx, 0, vk::MemoryUse::Device, "roi offsets"),
+      total_(ctx, 16, vk::MemoryUse::Device, "roi count"),
+      indices_(ctx, 0, vk::MemoryUse::Device, "roi indices"),
+      roi_weights_(ctx, 0, vk::MemoryUse::Device, "roi weights") {}
+
+EncodedPrompt PromptEncoder::encode(const render::GpuScene& scene, const std::vector<Anchor>& anchors, double sigma,
+                                    const RoiBox& roi) {
+    if (!(sigma > 0)) throw data::InputError("--sigma", "must be positive");
+    if (!(roi.length > 0 && roi.width > 0)) throw data::InputError("--roi", "length and width must be positive");
+    const uint32_t n = scene.size();
+    std::vector<glm::vec4> a;
+    for (auto& anchor : anchors) a.push_back(glm::vec4(glm::vec3(anchor.position), anchor.positive ? 1.0f : -1.0f));
+    anchors_.ensure(a.size() * sizeof(glm::vec4));
+    if (!a.empty()) vk::upload(ctx_, anchors_, a.data(), a.size() * sizeof(glm::vec4));
+    weights_.ensure(uint64_t(n) * 8);
+    flags_.ensure(uint64_t(n) * 4);
+    offsets_.ensure(uint64_t(n) * 4);
+    indices_.ensure(uint64_t(n) * 4);
+    roi_weights_.ensure(uint64_t(n) * 8);
+
+    WeightsPush push{n,
+                     uint32_t(a.size()),
+                     float(1.0 / (2.0 * sigma * sigma)),
+                     float(roi.length / 2),
+                     float(roi.width / 2),
+                     0, 0, 0,
+                     glm::vec4(glm::vec3(roi.centre), 0),
+                     glm::vec4(glm::vec3(roi.length_axis), 0),
+                     glm::vec4(glm::vec3(roi.width_axis), 0)};
+    cmd_.begin_pass("click weights");
+    cmd_.dispatch("segment/click_weights", {scene.means, anchors_, weights_, flags_}, push, (n + 255) / 256);
+    cmd_.begin_pass("roi");
+    scan_.exclusive(cmd_, flags_, offsets_, n, &total_, 0);
+    cmd_.dispatch("segment/roi_compact", {flags_, offsets_, weights_, indices_, roi_weights_}, CompactPush{n},
+                  (n + 255) / 256);
+    cmd_.end_pass();
+    cmd_.submit_and_wait();
+    timings_ = cmd_.timings();
+
+    EncodedPrompt out;
+    uint32_t count = vk::download_vector<uint32_t>(ctx_, total_, 1)[0];
+    out.indices = vk::download_vector<uint32_t>(ctx_, indices_, count);
+    out.weights = vk::download_vector<glm::vec2>(ctx_, roi_weights_, count);
+    return out;
+}
+
+}  // namespace pg::seg

@@ -1,0 +1,91 @@
+#version 450
+// One closing radius for radii too large for refine_close, over a wave of tiles. Definition
+// in engine/segment/mask_refine.h. Each region pixel holds a uint of bits, bit j = the
+// batch's j-th instance, in this workgroup's slice of a global scratch buffer; four
+// separable passes between its two arrays:
+//   m: instance bits of the region            E x E
+//   a: row dilation, columns [r, E - r)        E x (T + 2r)
+//   m: column dilation, rows [r, E - r)        (T + 2r) x (T + 2r), all ones outside the image
+//   a: row erosion, columns [2r, E - 2r)       (T + 2r) x T
+//   tile pixels: column erosion, then the smallest covering instance.
+#extension GL_GOOGLE_include_directive : require
+#include "common/dispatch.glsl"
+#include "segment/refine_shared.h"
+
+layout(local_size_x = PG_CLOSE_THREADS) in;
+layout(std430, binding = 0) readonly buffer Src { uint src[]; };
+layout(std430, binding = 1) buffer Dst { uint dst[]; };
+layout(std430, binding = 2) coherent buffer Scratch { uint scratch[]; };
+layout(push_constant) uniform Push { ClosePush pc; };
+
+#define PG_CLOSE_LIST PG_CLOSE_GLOBAL_BATCH
+#include "segment/refine_close_tile.glsl"
+
+uint g_m, g_a;  // this workgroup's two arrays in the scratch buffer
+#define M(i) scratch[g_m + uint(i)]
+#define A(i) scratch[g_a + uint(i)]
+void sync_scratch() {
+    memoryBarrierBuffer();
+    barrier();
+}
+
+void main() {
+    const uint tile = pc.tile_base + pg_group_index();
+    if (tile >= pc.tile_count) return;  // the folded grid's spare groups: whole workgroups
+    const uint lid = gl_LocalInvocationIndex;
+    const int w = int(pc.width), h = int(pc.height), r = int(pc.radius), T = int(pc.tile);
+    const int x0 = int(tile % pc.tiles_x) * T, y0 = int(tile / pc.tiles_x) * T;
+    const int E = T + 4 * r, Wa = T + 2 * r, win = 2 * r + 1;
+    g_m = pg_group_index() * pc.scratch_words;
+    g_a = g_m + uint(E * E);
+
+    if (!close_copy_tile(x0, y0, T)) return;  // uniform
+    uint prev = 0u;
+    for (;;) {
+        const uint count = close_next_batch(prev, PG_CLOSE_GLOBAL_BATCH, x0, y0, T);
+        if (count == 0u) break;
+        // m: which of the batch's instances each region pixel holds; nothing outside.
+        PG_CLOSE_FOR_2D(c, row, E, E) {
+            const int x = x0 - 2 * r + c, y = y0 - 2 * r + row;
+            uint bits = 0u;
+            if (x >= 0 && y >= 0 && x < w && y < h) {
+                const int b = close_batch_index(src[y * w + x], count);
+                if (b >= 0) bits = 1u << uint(b);
+            }
+            M(row * E + c) = bits;
+        }
+        sync_scratch();
+        PG_CLOSE_FOR_2D(c, row, Wa, E) {
+            uint v = 0u;
+            for (int d = 0; d < win; ++d) v |= M(row * E + c + d);
+            A(row * Wa + c) = v;
+        }
+        sync_scratch();
+        PG_CLOSE_FOR_2D(c, row, Wa, Wa) {
+            const int x = x0 - r + c, y = y0 - r + row;
+            uint v = 0xFFFFFFFFu;  // outside the image: every instance, for the erosion
+            if (x >= 0 && y >= 0 && x < w && y < h) {
+                v = 0u;
+                for (int d = 0; d < win; ++d) v |= A((row + d) * Wa + c);
+            }
+            M(row * Wa + c) = v;
+        }
+        sync_scratch();
+        PG_CLOSE_FOR_2D(c, row, T, Wa) {
+            uint v = 0xFFFFFFFFu;
+            for (int d = 0; d < win; ++d) v &= M(row * Wa + c + d);
+            A(row * T + c) = v;
+        }
+        sync_scratch();
+        PG_CLOSE_FOR_2D(lx, ly, T, T) {
+            const int x = x0 + lx, y = y0 + ly;
+            if (x >= w || y >= h) continue;
+            uint v = 0xFFFFFFFFu;
+            for (int d = 0; d < win; ++d) v &= A((ly + d) * T + lx);
+            // An earlier (smaller) batch's assignment stands; dst was written by this invocation.
+            if (v != 0u && src[y * w + x] == 0u && dst[y * w + x] == 0u) dst[y * w + x] = s_list[findLSB(v)];
+        }
+        if (count < PG_CLOSE_GLOBAL_BATCH) break;  // uniform: no more instances
+        sync_scratch();  // the arrays are reused by the next batch
+    }
+}
