@@ -1,5 +1,4 @@
 // pointgauss orbit: cameras around a scene that came without any.
-// pointgauss make-sample: writes the bundled sample scene (assets/sample) from its generator.
 #include <cstdio>
 #include <filesystem>
 
@@ -7,7 +6,6 @@
 #include "dataset/camera_io.h"
 #include "dataset/error.h"
 #include "dataset/orbit.h"
-#include "dataset/sample_scene.h"
 #include "dataset/scene_io.h"
 
 namespace pg::app {
@@ -33,10 +31,7 @@ struct OrbitArgs {
     data::OrbitOptions o;
 };
 
-struct SampleArgs {
-    std::string out;
-    uint32_t seed = 1;
-};
+
 
 void run_orbit(const OrbitArgs& a) {
     auto cloud = data::load_scene(a.scene);
@@ -46,16 +41,6 @@ void run_orbit(const OrbitArgs& a) {
     std::printf("wrote %zu cameras to %s\n", cams.size(), a.out.c_str());
 }
 
-void run_make_sample(const SampleArgs& a) {
-    auto sample = data::make_sample_scene(a.seed);
-    fs::path out(a.out);
-    fs::create_directories(out / "sparse" / "0");
-    data::write_ply(sample.cloud, out / "scene.ply");
-    data::write_inria_cameras_json(sample.cameras, out / "cameras.json");
-    data::write_colmap_binary(sample.cameras, out / "sparse" / "0");
-    std::printf("wrote the sample scene (%zu Gaussians, %zu cameras) to %s\n", sample.cloud.size(),
-                sample.cameras.size(), a.out.c_str());
-}
 
 }  // namespace
 
@@ -74,11 +59,6 @@ void register_cameras(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--distance", a->o.distance, "Distance from the centre (default: fit the scene)");
     cmd->callback([a, &run] { run = [a] { run_orbit(*a); }; });
 
-    auto s = std::make_shared<SampleArgs>();
-    auto* sample = app.add_subcommand("make-sample", "Generate the bundled sample scene (scene.ply, cameras.json, sparse/0)");
-    sample->add_option("--out", s->out, "Output folder")->required();
-    sample->add_option("--seed", s->seed, "Generator seed")->capture_default_str();
-    sample->callback([s, &run] { run = [s] { run_make_sample(*s); }; });
 }
 
 }  // namespace pg::app

@@ -35,7 +35,7 @@ Run run(const std::string& args) {
     return r;
 }
 
-std::string sample() { return (pg::test::source_dir() / "assets/sample").string(); }
+std::string sample() { return (pg::test::source_dir() / "assets/sample/desk_000").string(); }
 
 size_t count_lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
 
@@ -43,20 +43,23 @@ size_t count_lines(const std::string& s) { return size_t(std::count(s.begin(), s
 
 TEST_CASE("the bundled sample scene is exactly what its generator makes") {
     auto dir = pg::test::scratch("cli-sample");
-    auto r = run("make-sample --out " + dir.string());
+    auto r = run("synth --suite desk --scenes 1 --seed 1 --density 0.15 --sh-degree 1 --cameras 24 --out " + dir.string());
+    INFO(r.out);
     REQUIRE(r.code == 0);
-    CHECK(pg::data::read_file(dir / "scene.ply") == pg::data::read_file(sample() + "/scene.ply"));
-    CHECK(pg::data::read_file(dir / "cameras.json") == pg::data::read_file(sample() + "/cameras.json"));
+    for (auto file : {"scene.ply", "cameras.json", "meta.json", "masks/view_000.png", "masks/view_023.png"})
+        CHECK(pg::data::read_file(dir / "desk_000" / file) == pg::data::read_file(fs::path(sample()) / file));
+    CHECK(pg::data::read_file(dir / "suite.json") == pg::data::read_file(fs::path(sample()) / ".." / "suite.json"));
 }
 
 TEST_CASE("info reports the sample scene's count, SH degree and cameras") {
     auto r = run("info " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json");
     INFO(r.out);
     REQUIRE(r.code == 0);
-    CHECK(r.out.find("gaussians  29603") != std::string::npos);
+    CHECK(r.out.find("gaussians  59611") != std::string::npos);
     CHECK(r.out.find("sh degree  1") != std::string::npos);
     CHECK(r.out.find("cameras    24") != std::string::npos);
     CHECK(r.out.find("instance:int") != std::string::npos);
+    CHECK(r.out.find("class:int") != std::string::npos);
 }
 
 TEST_CASE("render writes one PNG per output and view, named after the cameras") {
@@ -145,4 +148,40 @@ TEST_CASE("orbit writes cameras that see the scene, and bench prints JSON") {
     CHECK(j["gpu_ms"]["blend"].get<double>() >= 0.0);
     CHECK(j["tile_keys"].get<int>() > 0);
     CHECK(j["peak_device_bytes"].get<double>() > 0.0);
+}
+
+TEST_CASE("prompts, segment and eval run the benchmark protocol on the bundled sample") {
+    // The ground-truth decoder isolates the pipeline around the network: 3D labels must be
+    // exact, and the projected masks must match the ray-cast ground truth closely.
+    auto dir = pg::test::scratch("cli-segment");
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    auto prompts = (dir / "prompts.json").string();
+    auto p = run("prompts " + sample() + " --out " + prompts);
+    INFO(p.out);
+    REQUIRE(p.code == 0);
+    auto pred = dir / "pred";
+    auto s = run("segment " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json --prompts " + prompts +
+                 " --model ground-truth --out " + (pred / "desk_000").string());
+    INFO(s.out);
+    REQUIRE(s.code == 0);
+    for (auto f : {"scene.ply", "report.json", "masks/view_000.png", "overlays/view_000.png", "objects/lamp_8.ply"})
+        CHECK(fs::exists(pred / "desk_000" / f));
+    auto e = run("eval --gt " + sample() + "/.. --pred " + pred.string() + " --split all --json " + (dir / "eval.json").string());
+    INFO(e.out);
+    REQUIRE(e.code == 0);
+    auto j = nlohmann::json::parse(pg::data::read_text_file(dir / "eval.json"));
+    auto scene = j["scenes"][0];
+    CHECK(scene["3d"]["miou"].get<double>() == Approx(1.0));
+    CHECK(scene["2d"]["miou"].get<double>() >= 0.65);
+    CHECK(scene["2d"]["oa"].get<double>() >= 0.95);
+    // Errors name the prompt file or click.
+    auto bad = dir / "bad.json";
+    pg::data::write_atomically(bad, [](std::ostream& os) {
+        os << R"({"objects": [{"name": "x", "clicks": [{"view": "view_000", "u": 9999, "v": 5}]}]})";
+    });
+    auto b = run("segment " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json --prompts " + bad.string() +
+                 " --model ground-truth --views none --out " + (dir / "bad").string());
+    CHECK(b.code == 1);
+    CHECK(b.out.find("off the") != std::string::npos);
 }

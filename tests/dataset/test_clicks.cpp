@@ -18,7 +18,7 @@
 #include "dataset/clicks/session.h"
 #include "dataset/clicks/view_choice.h"
 #include "dataset/error.h"
-#include "dataset/sample_scene.h"
+#include "dataset/synth/synth.h"
 
 using namespace pg::data::clicks;
 using pg::data::InputError;
@@ -446,11 +446,16 @@ TEST_CASE("clicks: 3D next click goes to the largest error region", "[clicks]") 
 
 TEST_CASE("clicks: 3D clicks are deterministic and the first click lands on each sample object",
           "[clicks]") {
-    const pg::data::SampleScene scene = pg::data::make_sample_scene(1);
+    pg::data::synth::SynthOptions options;
+    options.density = 0.1;
+    options.masks = false;
+    const auto scene = pg::data::synth::make_suite_scene(pg::data::synth::SuiteKind::Desk, 0, 1, options);
     const std::vector<int32_t> instance = *scene.cloud.int_property("instance");
     const Clicker3D a(scene.cloud.mean), b(scene.cloud.mean);
     CHECK(a.link_radius() == b.link_radius());
-    for (int id = 1; id <= pg::data::kSampleSceneObjects; ++id) {
+    REQUIRE_FALSE(scene.instances.empty());
+    for (const auto& object : scene.instances) {
+        const int id = object.id;
         const Mask gt = mask_of(instance, id);
         const auto ca = a.first_click(gt), cb = b.first_click(gt);
         REQUIRE(ca);
