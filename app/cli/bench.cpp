@@ -117,6 +117,7 @@ void register_bench(CLI::App& app, std::function<void()>& run) {
     cmd->add_flag("--json", a->json, "Print JSON instead of a table");
     add_device_option(*cmd, a->device);
     cmd->callback([a, &run] { run = [a] { run_bench_render(*a); }; });
+    register_bench_segment(*bench, run);
 }
 
 }  // namespace pg::app

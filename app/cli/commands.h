@@ -24,6 +24,7 @@ void register_eval(CLI::App& app, std::function<void()>& run);
 void register_synth(CLI::App& app, std::function<void()>& run);
 void register_segment(CLI::App& app, std::function<void()>& run);
 void register_prompts(CLI::App& app, std::function<void()>& run);
+void register_bench_segment(CLI::App& bench, std::function<void()>& run);
 
 // "-y", "z", or "x,y,z" -> a unit vector; InputError naming --up otherwise.
 glm::dvec3 parse_up(const std::string& s);

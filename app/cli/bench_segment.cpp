@@ -1,0 +1,131 @@
+// pointgauss bench segment: per-stage milliseconds for one click (lift, encode + ROI,
+// partition, decode) and for the masks of one view (render, label raster, refine), medians
+// over repeated runs.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "app/cli/commands.h"
+#include "dataset/camera_io.h"
+#include "dataset/error.h"
+#include "dataset/prompts.h"
+#include "dataset/scene_io.h"
+#include "dataset/up_axis.h"
+#include "engine/segment/mask_views.h"
+#include "engine/segment/segmenter.h"
+#include "engine/vk/context.h"
+
+namespace pg::app {
+
+namespace {
+
+struct BenchSegmentArgs {
+    std::string scene, cameras, prompts, mode = "occlusion", label_property = "instance";
+    int repeats = 5;
+    bool json = false;
+    DeviceOptions device;
+};
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+void run_bench_segment(const BenchSegmentArgs& a) {
+    if (a.repeats < 1) throw data::InputError("--repeats", "must be at least 1");
+    auto cloud = data::load_scene(a.scene);
+    auto cameras = data::load_cameras(a.cameras);
+    auto prompts = data::read_prompts(a.prompts);
+    // One click of the first object: the interactive unit of work.
+    data::Prompts one;
+    one.objects.push_back(prompts.objects.front());
+    one.objects.front().clicks.resize(1);
+    auto labels = cloud.int_property(a.label_property);
+    if (!labels) throw data::InputError(a.scene, "has no integer property '" + a.label_property + "'");
+
+    vk::ContextOptions co;
+    co.device = a.device.device;
+    co.quiet = a.json;
+    vk::Context ctx(co);
+    render::GpuScene scene(ctx, cloud);
+    seg::GroundTruthDecoder decoder(*labels);
+    seg::Segmenter segmenter(ctx, cloud, scene, cameras, decoder);
+    seg::SegmentOptions o;
+    o.up = data::up_from_cameras(cameras);
+
+    const auto& click = one.objects.front().clicks.front();
+    auto cam = std::find_if(cameras.begin(), cameras.end(), [&](auto& c) { return c.name == click.view; });
+    if (cam == cameras.end()) throw data::InputError(a.prompts, "the first click's view is not among the cameras");
+
+    std::map<std::string, std::vector<double>> click_ms, view_ms;
+    std::vector<double> click_total, view_total;
+    seg::SegmentResult result;
+    for (int r = 0; r < a.repeats + 1; ++r) {  // the first run warms pipelines and buffers up
+        auto t0 = std::chrono::steady_clock::now();
+        result = segmenter.segment(one, o);
+        double total = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        if (r == 0) continue;
+        for (auto& [k, v] : result.stage_ms) click_ms[k].push_back(v);
+        click_total.push_back(total);
+    }
+    seg::MaskViews masker(ctx, scene, result.labels);
+    seg::MaskViewsOptions mo;
+    mo.mode = seg::parse_label_mode(a.mode);
+    std::map<std::string, double> before;
+    for (int r = 0; r < a.repeats + 1; ++r) {
+        before = masker.stage_ms();
+        auto t0 = std::chrono::steady_clock::now();
+        masker.render(*cam, mo, false);
+        double total = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        if (r == 0) continue;
+        for (auto& [k, v] : masker.stage_ms()) view_ms[k].push_back(v - before[k]);
+        view_total.push_back(total);
+    }
+
+    nlohmann::json j;
+    j["device"] = ctx.info().name;
+    j["gaussians"] = cloud.size();
+    j["roi_gaussians"] = result.objects.front().roi_gaussians;
+    j["view"] = {cam->name, cam->width, cam->height};
+    for (auto& [k, v] : click_ms) j["click_ms"][k] = median(v);
+    j["click_ms"]["wall"] = median(click_total);
+    for (auto& [k, v] : view_ms) j["view_gpu_ms"][k] = median(v);
+    j["view_wall_ms"] = median(view_total);
+    if (a.json) {
+        std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    std::printf("device %s, %zu Gaussians, ROI %zu, view %s %dx%d, median of %d\n\n", ctx.info().name.c_str(),
+                cloud.size(), result.objects.front().roi_gaussians, cam->name.c_str(), cam->width, cam->height,
+                a.repeats);
+    std::printf("| one click (wall ms) | median |\n|---|---:|\n");
+    for (auto& [k, v] : click_ms) std::printf("| %s | %.2f |\n", k.c_str(), median(v));
+    std::printf("| **total** | %.2f |\n\n", median(click_total));
+    std::printf("| masks of one view (GPU ms) | median |\n|---|---:|\n");
+    for (auto& [k, v] : view_ms) std::printf("| %s | %.2f |\n", k.c_str(), median(v));
+    std::printf("| **wall** | %.2f |\n", median(view_total));
+}
+
+}  // namespace
+
+void register_bench_segment(CLI::App& bench, std::function<void()>& run) {
+    auto a = std::make_shared<BenchSegmentArgs>();
+    auto* cmd = bench.add_subcommand("segment", "Per-stage ms for one click and for the masks of one view");
+    cmd->add_option("scene", a->scene, "A labelled scene (the ground-truth decoder stands in for the network)")
+        ->required();
+    cmd->add_option("--cameras", a->cameras, "Camera file or COLMAP folder")->required();
+    cmd->add_option("--prompts", a->prompts, "prompts.json; its first click is measured")->required();
+    cmd->add_option("--mode", a->mode, "Label projection: occlusion or paper")->capture_default_str();
+    cmd->add_option("--repeats", a->repeats, "Measured repetitions")->capture_default_str();
+    cmd->add_option("--label-property", a->label_property, "Property the ground-truth decoder reads")
+        ->capture_default_str();
+    cmd->add_flag("--json", a->json, "Print JSON instead of tables");
+    add_device_option(*cmd, a->device);
+    cmd->callback([a, &run] { run = [a] { run_bench_segment(*a); }; });
+}
+
+}  // namespace pg::app

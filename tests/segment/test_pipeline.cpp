@@ -1,0 +1,182 @@
+// The segmentation stages around the network, each against a plain CPU computation.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "dataset/error.h"
+#include "dataset/orbit.h"
+#include "dataset/up_axis.h"
+#include "engine/segment/partition.h"
+#include "engine/segment/prompt_encoder.h"
+#include "engine/segment/segmenter.h"
+#include "tests/gpu_fixture.h"
+#include "tests/reference/test_scenes.h"
+
+using namespace pg;
+
+TEST_CASE("partition: disjoint batches of at most N_max covering the ROI, seeded") {
+    for (uint32_t n : {0u, 1u, 8192u, 8193u, 20000u, 50001u}) {
+        std::vector<uint32_t> roi(n);
+        for (uint32_t i = 0; i < n; ++i) roi[i] = 3 * i + 1;
+        auto batches = seg::partition_roi(roi, 8192, 7);
+        CHECK(batches.size() == (n + 8191) / 8192);
+        std::vector<uint32_t> all;
+        size_t smallest = SIZE_MAX, largest = 0;
+        for (auto& b : batches) {
+            CHECK(b.size() <= 8192);
+            CHECK(std::is_sorted(b.begin(), b.end()));
+            smallest = std::min(smallest, b.size());
+            largest = std::max(largest, b.size());
+            all.insert(all.end(), b.begin(), b.end());
+        }
+        if (!batches.empty()) CHECK(largest - smallest <= 1);
+        std::sort(all.begin(), all.end());
+        CHECK(all == roi);  // disjoint and complete
+        CHECK(seg::partition_roi(roi, 8192, 7) == batches);
+        if (batches.size() > 1) {
+            CHECK(seg::partition_roi(roi, 8192, 8) != batches);
+            // Each batch spans the ROI rather than one end of it.
+            for (auto& b : batches) CHECK(b.back() - b.front() > 3 * n * 3 / 4);
+        }
+    }
+}
+
+TEST_CASE("up axis: from cameras, from a ground plane, never assumed") {
+    auto scene = ref::random_scene(2, 200, 0);
+    data::OrbitOptions ring;
+    ring.count = 12;
+    ring.elevation_degrees = 35;  // tilted cameras: their ups cancel around the ring
+    for (glm::dvec3 world_up : {glm::dvec3(0, -1, 0), glm::dvec3(0, 0, 1)}) {
+        auto cams = data::orbit_cameras(scene.cloud, world_up, ring);
+        CHECK(glm::length(cams[0].up() - world_up) > 0.1);
+        CHECK(glm::length(data::up_from_cameras(cams) - world_up) < 1e-6);
+    }
+    CHECK_THROWS_AS(data::up_from_cameras({}), data::InputError);
+
+    // A ground plane z = 0 with objects above it: up = +z. The same scene y-down: up = -y.
+    for (int variant = 0; variant < 2; ++variant) {
+        data::GaussianCloud cloud;
+        ref::Rng rng(3);
+        auto place = [&](glm::vec3 p) {
+            if (variant == 1) p = glm::vec3(p.x, -p.z, p.y);
+            ref::add_gaussian(cloud, p, glm::vec3(-4.0f), glm::vec4(1, 0, 0, 0), 2.0f, glm::vec3(0.0f));
+        };
+        for (int i = 0; i < 3000; ++i) place({rng.uniform(-5, 5), rng.uniform(-5, 5), 0.0f});
+        for (int i = 0; i < 1500; ++i) place({rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(0.2f, 2.0f)});
+        auto g = data::up_from_ground_plane(cloud);
+        glm::dvec3 expected = variant == 0 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, -1, 0);
+        CHECK(glm::dot(g, expected) > 0.99);
+    }
+    glm::dvec3 a, b;
+    for (glm::dvec3 u : {glm::dvec3(0, -1, 0), glm::dvec3(0, 0, 1), glm::normalize(glm::dvec3(1, 2, 3))}) {
+        data::horizontal_axes(u, a, b);
+        CHECK(std::abs(glm::dot(a, u)) < 1e-12);
+        CHECK(std::abs(glm::dot(b, u)) < 1e-12);
+        CHECK(std::abs(glm::dot(a, b)) < 1e-12);
+        CHECK(glm::length(a) == Approx(1.0));
+    }
+}
+
+TEST_CASE("prompt encoder: click weights and the ROI column match a CPU computation") {
+    auto scene = ref::random_scene(4, 5000, 0);
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, scene.cloud);
+    seg::PromptEncoder encoder(ctx);
+    std::vector<seg::Anchor> anchors = {{{0.1, 0.2, 0.0}, true, -1}, {{-0.3, 0.1, 0.2}, false, -1},
+                                        {{0.2, -0.1, 0.1}, true, -1}};
+    seg::RoiBox roi;
+    roi.centre = anchors[0].position;
+    data::horizontal_axes(glm::dvec3(0, -1, 0), roi.length_axis, roi.width_axis);
+    roi.length = 0.8;
+    roi.width = 0.5;
+    const double sigma = 0.15;
+    auto out = encoder.encode(gpu, anchors, sigma, roi);
+
+    std::vector<uint32_t> expected;
+    for (uint32_t i = 0; i < scene.cloud.size(); ++i) {
+        glm::dvec3 rel = glm::dvec3(scene.cloud.mean[i]) - roi.centre;
+        double l = std::abs(glm::dot(rel, roi.length_axis)), w = std::abs(glm::dot(rel, roi.width_axis));
+        if (std::abs(l - roi.length / 2) < 1e-5 || std::abs(w - roi.width / 2) < 1e-5) continue;  // on the edge
+        if (l <= roi.length / 2 && w <= roi.width / 2) expected.push_back(i);
+    }
+    REQUIRE(expected.size() > 100);
+    REQUIRE(expected.size() < scene.cloud.size());  // the column cuts
+    std::set<uint32_t> got(out.indices.begin(), out.indices.end());
+    CHECK(std::is_sorted(out.indices.begin(), out.indices.end()));
+    for (uint32_t i : expected) CHECK(got.count(i) == 1);
+    CHECK(out.indices.size() <= expected.size() + 2);
+    for (size_t k = 0; k < out.indices.size(); ++k) {
+        glm::dvec3 mu(scene.cloud.mean[out.indices[k]]);
+        double pos = 0, neg = 0;
+        for (auto& a : anchors) {
+            double v = std::exp(-glm::dot(mu - a.position, mu - a.position) / (2 * sigma * sigma));
+            (a.positive ? pos : neg) = std::max(a.positive ? pos : neg, v);
+        }
+        CHECK(out.weights[k].x == Approx(pos).margin(1e-5));
+        CHECK(out.weights[k].y == Approx(neg).margin(1e-5));
+    }
+}
+
+TEST_CASE("click lifting: the anchor lies where opacity reaches tau, and bad clicks are named") {
+    // An opaque wall of overlapping Gaussians at z = 2 in front of a camera at the origin.
+    data::GaussianCloud cloud;
+    for (int y = -20; y <= 20; ++y)
+        for (int x = -20; x <= 20; ++x)
+            ref::add_gaussian(cloud, glm::vec3(x * 0.05f, y * 0.05f, 2.0f), glm::vec3(std::log(0.04f), std::log(0.04f), -6.0f),
+                              glm::vec4(1, 0, 0, 0), 6.0f, glm::vec3(0.0f));
+    data::Camera cam;
+    cam.name = "front";
+    cam.width = 64;
+    cam.height = 48;
+    cam.fx = cam.fy = 60;
+    cam.cx = 32;
+    cam.cy = 24;
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, cloud);
+    render::Renderer renderer(ctx);
+    auto a = seg::lift_click(renderer, gpu, cam, 40, 10, true, {}, "click 0");
+    CHECK(a.position.z == Approx(2.0).margin(1e-4));
+    // On the pixel's ray: x / z = (u + 0.5 - cx) / fx.
+    CHECK(a.position.x / a.position.z == Approx((40.5 - 32) / 60.0).margin(1e-5));
+    CHECK(a.position.y / a.position.z == Approx((10.5 - 24) / 60.0).margin(1e-5));
+    CHECK(a.gaussian >= 0);
+    try {
+        seg::lift_click(renderer, gpu, cam, 64, 3, true, {}, "prompts: click 7");
+        FAIL("expected an error");
+    } catch (const data::InputError& e) {
+        CHECK(std::string(e.what()).find("click 7") != std::string::npos);
+        CHECK(std::string(e.what()).find("off the") != std::string::npos);
+    }
+    // Looking away from the wall: opacity never reaches tau.
+    data::Camera away = cam;
+    away.R = glm::dmat3(-1, 0, 0, 0, 1, 0, 0, 0, -1);
+    CHECK_THROWS_AS(seg::lift_click(renderer, gpu, away, 30, 20, true, {}, "click"), data::InputError);
+}
+
+TEST_CASE("objects: a Gaussian claimed twice goes to the higher probability, removal reassigns it") {
+    seg::SegmentResult r;
+    seg::ObjectResult a, b;
+    a.id = 1;
+    a.claims = {{0, 0.9f}, {1, 0.6f}, {2, 0.7f}};
+    b.id = 2;
+    b.claims = {{1, 0.8f}, {2, 0.7f}, {3, 0.55f}};
+    r.objects = {a, b};
+    r.assemble(5);
+    CHECK(r.labels == std::vector<int32_t>{1, 2, 1, 2, 0});  // ties go to the earlier object
+    CHECK(r.objects[0].labelled == 2);
+    CHECK(r.remove_object(1));
+    CHECK(r.labels == std::vector<int32_t>{0, 2, 2, 2, 0});
+    CHECK_FALSE(r.remove_object(9));
+}
+
+TEST_CASE("ground-truth decoder: foreground is the instance under the positive clicks") {
+    seg::GroundTruthDecoder d({0, 3, 3, 5, 3, 0});
+    seg::DecoderBatch batch;
+    batch.gaussians = {0, 1, 2, 3, 4, 5};
+    batch.click_gaussians = {2, 4, 3};
+    CHECK(d.predict(batch) == std::vector<float>{0, 1, 1, 0, 1, 0});
+    batch.click_gaussians = {0};  // a click on background finds nothing
+    CHECK(d.predict(batch) == std::vector<float>(6, 0.0f));
+}
