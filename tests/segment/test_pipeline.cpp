@@ -175,8 +175,12 @@ TEST_CASE("ground-truth decoder: foreground is the instance under the positive c
     seg::GroundTruthDecoder d({0, 3, 3, 5, 3, 0});
     seg::DecoderBatch batch;
     batch.gaussians = {0, 1, 2, 3, 4, 5};
+    batch.features.assign(6, glm::vec2(0.0f));
     batch.click_gaussians = {2, 4, 3};
     CHECK(d.predict(batch) == std::vector<float>{0, 1, 1, 0, 1, 0});
-    batch.click_gaussians = {0};  // a click on background finds nothing
+    batch.click_gaussians = {0};  // a click on background with nothing labelled near it
     CHECK(d.predict(batch) == std::vector<float>(6, 0.0f));
+    // The click's own Gaussian is background (a floater), but its neighbours are instance 5.
+    batch.features[3] = glm::vec2(0.9f, 0.0f);
+    CHECK(d.predict(batch) == std::vector<float>{0, 0, 0, 1, 0, 0});
 }
