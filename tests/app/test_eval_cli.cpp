@@ -14,6 +14,7 @@
 #include "dataset/gaussian_cloud.h"
 #include "dataset/image_io.h"
 #include "dataset/scene_io.h"
+#include "tests/app/cli_run.h"
 #include "tests/test_paths.h"
 
 namespace fs = std::filesystem;
@@ -21,23 +22,8 @@ using nlohmann::json;
 
 namespace {
 
-struct Run {
-    int code;
-    std::string out;  // stdout and stderr together
-};
-
-Run run(const std::string& args) {
-    std::string cmd = std::string(PG_CLI) + " " + args + " 2>&1";
-    Run r{0, {}};
-    FILE* p = popen(cmd.c_str(), "r");
-    REQUIRE(p);
-    std::array<char, 4096> buf;
-    size_t n;
-    while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-    int status = pclose(p);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-    return r;
-}
+using pg::test::Run;
+Run run(const std::string& args) { return pg::test::run_cli(args); }
 
 size_t count_lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
 

@@ -1,0 +1,30 @@
+#pragma once
+// Runs the pointgauss binary (PG_CLI) as a real process; stdout and stderr together.
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cstdio>
+#include <string>
+#include <sys/wait.h>
+
+namespace pg::test {
+
+struct Run {
+    int code;
+    std::string out;
+};
+
+inline Run run_cli(const std::string& args) {
+    std::string cmd = std::string(PG_CLI) + " " + args + " 2>&1";
+    Run r{0, {}};
+    FILE* p = popen(cmd.c_str(), "r");
+    REQUIRE(p);
+    std::array<char, 4096> buf;
+    size_t n;
+    while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+    int status = pclose(p);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+    return r;
+}
+
+}  // namespace pg::test
