@@ -4,14 +4,11 @@
 #include <bit>
 #include <stdexcept>
 #include <string>
-#include <cstdlib>
 
 #include "engine/vk/context.h"
 #include "shaders/segment/refine_shared.h"
 
 namespace pg::seg {
-static int g_prof = 0;
-#define PROF(c, n) do { if (getenv("PG_PROF")) c.begin_pass(std::to_string(g_prof++ % 15) + __builtin_FUNCTION()); } while (0)
 
 namespace {
 
@@ -106,7 +103,8 @@ void MaskRefiner::close(vk::CommandList& cmd, const vk::Buffer& src, const vk::B
         push.tile = uint32_t(shared_tile);
         push.tiles_x = uint32_t(ceil_div(width_, push.tile));
         push.tile_count = push.tiles_x * uint32_t(ceil_div(height_, push.tile));
-        PROF(cmd,"d1"); cmd.dispatch("segment/refine_close", {src, dst}, push, push.tile_count);
+        cmd.copy(src, dst, VkDeviceSize(width_) * height_ * 4);  // the kernel writes what changes
+        cmd.dispatch("segment/refine_close", {src, dst}, push, push.tile_count);
         return;
     }
     // Large radius: the region's arrays live in global scratch, one slice per workgroup.
@@ -120,7 +118,7 @@ void MaskRefiner::close(vk::CommandList& cmd, const vk::Buffer& src, const vk::B
     vk::Buffer& scratch = grow(scratch_, slice * wave, "refine closing scratch");
     for (uint32_t base = 0; base < push.tile_count; base += wave) {
         push.tile_base = base;
-        PROF(cmd,"d1"); cmd.dispatch("segment/refine_close_global", {src, dst, scratch}, push,
+        cmd.dispatch("segment/refine_close_global", {src, dst, scratch}, push,
                      std::min(wave, push.tile_count - base));
     }
 }
@@ -128,9 +126,10 @@ void MaskRefiner::close(vk::CommandList& cmd, const vk::Buffer& src, const vk::B
 void MaskRefiner::components(vk::CommandList& cmd, const vk::Buffer& labels, uint32_t mode, bool sizes) {
     const gpu::CcPush push{width_, height_, mode, sizes ? 1u : 0u};
     const uint32_t tiles_x = uint32_t(ceil_div(width_, PG_CC_TILE)), tiles_y = uint32_t(ceil_div(height_, PG_CC_TILE));
-    PROF(cmd,"d2"); cmd.dispatch_2d("segment/refine_cc_local", {labels, parent_, aux0_}, push, tiles_x, tiles_y);
-    PROF(cmd,"d2"); cmd.dispatch_2d("segment/refine_cc_edges", {labels, parent_}, push, tiles_x, tiles_y);
-    PROF(cmd,"d1"); cmd.dispatch("segment/refine_cc_compress", {parent_}, push,
+    if (sizes) cmd.fill(aux0_, 0u, 0, VkDeviceSize(width_) * height_ * 4);  // written at tile-local roots only
+    cmd.dispatch_2d("segment/refine_cc_local", {labels, parent_, aux0_}, push, tiles_x, tiles_y);
+    cmd.dispatch_2d("segment/refine_cc_edges", {labels, parent_}, push, tiles_x, tiles_y);
+    cmd.dispatch("segment/refine_cc_compress", {parent_}, push,
                  ceil_div(uint64_t(width_) * height_, PG_REFINE_THREADS));
 }
 
@@ -141,8 +140,8 @@ void MaskRefiner::fill_holes(vk::CommandList& cmd, const vk::Buffer& src, const 
     cmd.fill(aux0_, 0xFFFFFFFFu, 0, pixels * 4);  // lowest neighbouring instance; 0 = touches the border
     cmd.fill(aux1_, 0u, 0, pixels * 4);           // highest neighbouring instance
     const gpu::PixelPush push{width_, height_, 0, 0};
-    PROF(cmd,"d1"); cmd.dispatch("segment/refine_hole_gather", {src, parent_, aux0_, aux1_}, push, groups);
-    PROF(cmd,"d1"); cmd.dispatch("segment/refine_hole_apply", {src, dst, parent_, aux0_, aux1_}, push, groups);
+    cmd.dispatch("segment/refine_hole_gather", {src, parent_, aux0_, aux1_}, push, groups);
+    cmd.dispatch("segment/refine_hole_apply", {src, dst, parent_, aux0_, aux1_}, push, groups);
 }
 
 void MaskRefiner::keep_largest(vk::CommandList& cmd, const vk::Buffer& src, const vk::Buffer& dst) {
@@ -158,10 +157,10 @@ void MaskRefiner::keep_largest(vk::CommandList& cmd, const vk::Buffer& src, cons
     cmd.fill(best_root_, 0xFFFFFFFFu, 0, slots * 4);
     components(cmd, src, PG_CC_LABEL_8, true);  // tile-local sizes in aux0_
     const gpu::PixelPush push{width_, height_, uint32_t(slots - 1), 0};
-    PROF(cmd,"d1"); cmd.dispatch("segment/refine_lcc_count", {parent_, aux0_}, push, groups);
-    PROF(cmd,"d1"); cmd.dispatch("segment/refine_lcc_insert", {src, parent_, aux0_, aux1_, keys_, best_size_}, push, groups);
-    PROF(cmd,"d1"); cmd.dispatch("segment/refine_lcc_tie", {src, parent_, aux0_, aux1_, best_size_, best_root_}, push, groups);
-    PROF(cmd,"d1"); cmd.dispatch("segment/refine_lcc_apply", {src, dst, parent_, aux1_, best_root_}, push, groups);
+    cmd.dispatch("segment/refine_lcc_count", {parent_, aux0_}, push, groups);
+    cmd.dispatch("segment/refine_lcc_insert", {src, parent_, aux0_, aux1_, keys_, best_size_}, push, groups);
+    cmd.dispatch("segment/refine_lcc_tie", {src, parent_, aux0_, aux1_, best_size_, best_root_}, push, groups);
+    cmd.dispatch("segment/refine_lcc_apply", {src, dst, parent_, aux1_, best_root_}, push, groups);
 }
 
 }  // namespace pg::seg

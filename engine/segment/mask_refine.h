@@ -23,11 +23,19 @@
 //    row-major pixel index stays.
 //
 // Everything is recorded into the caller's command list, with no host wait and a fixed
-// number of dispatches (about 3 per radius plus 12), so a caller can time it with
-// begin_pass and submit it with other work. The closing works per tile on the instances
-// near the tile, in ascending batches of 32, so any number of instances costs extra only
-// where many meet. Components use union-find (tile-local in shared memory, then across
-// tiles), whose roots are each component's smallest pixel index.
+// number of commands (2 per radius, about 20 for the other two stages), so a caller can time
+// it with begin_pass and submit it with other work.
+//  - Closing: one workgroup per tile takes the instances within r of the tile (only they can
+//    claim its pixels) in ascending batches of 16, as bit rows of 64 pixels per instance in
+//    shared memory (refine_close, r <= 12); any number of instances works, extra cost arises
+//    only where many meet. Radii above 12 use per-pixel instance bits in global scratch
+//    (refine_close_global): exact too, but on lavapipe, which stops a shader's loops after
+//    65535 iterations in all, a tile with hundreds of instances within r > 12 of it could
+//    exceed that. refine_close stays within it for any image.
+//  - Components: union-find, tile-local in shared memory, then across tile borders; a
+//    component's root is its smallest pixel index. Holes gather border contact and the
+//    lowest/highest neighbouring instance at the root; the largest component per instance
+//    comes from sizes summed at the roots and a hash table keyed by instance id.
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -13,11 +13,11 @@ layout(push_constant) uniform Push { CcPush pc; };
 #include "segment/refine_union_find.glsl"
 
 void main() {
-    const uint t = gl_LocalInvocationIndex;
-    if (t >= 2u * PG_CC_TILE - 1u) return;
+    const int t = int(gl_LocalInvocationIndex);
+    if (t >= 2 * PG_CC_TILE - 1) return;
     const int tx = int(gl_WorkGroupID.x), ty = int(gl_WorkGroupID.y);
-    const int x = tx * PG_CC_TILE + (t < PG_CC_TILE ? int(t) : 0);
-    const int y = ty * PG_CC_TILE + (t < PG_CC_TILE ? 0 : int(t) - PG_CC_TILE + 1);
+    const int x = tx * PG_CC_TILE + (t < PG_CC_TILE ? t : 0);
+    const int y = ty * PG_CC_TILE + (t < PG_CC_TILE ? 0 : t - PG_CC_TILE + 1);
     const int w = int(pc.width), h = int(pc.height);
     if (x >= w || y >= h) return;
     const uint p = uint(y * w + x);

@@ -1,13 +1,16 @@
 #version 450
-// One closing radius for radii too large for refine_close, over a wave of tiles. Definition
-// in engine/segment/mask_refine.h. Each region pixel holds a uint of bits, bit j = the
-// batch's j-th instance, in this workgroup's slice of a global scratch buffer; four
-// separable passes between its two arrays:
+// One closing radius for radii too large for refine_close (definition in
+// engine/segment/mask_refine.h), over a wave of tiles. Each region pixel holds a uint of bits,
+// bit j = the batch's j-th instance (batches of 32, ascending), in this workgroup's slice of a
+// global scratch buffer; four separable passes between its two arrays:
 //   m: instance bits of the region            E x E
 //   a: row dilation, columns [r, E - r)        E x (T + 2r)
 //   m: column dilation, rows [r, E - r)        (T + 2r) x (T + 2r), all ones outside the image
 //   a: row erosion, columns [2r, E - 2r)       (T + 2r) x T
 //   tile pixels: column erosion, then the smallest covering instance.
+// Unlike refine_close, its loops grow with the radius and with the instances near a tile: on
+// lavapipe, which ends a shader's loops after 65535 iterations in all, a tile with hundreds
+// of instances within r of it can run out.
 #extension GL_GOOGLE_include_directive : require
 #include "common/dispatch.glsl"
 #include "segment/refine_shared.h"
@@ -18,8 +21,82 @@ layout(std430, binding = 1) buffer Dst { uint dst[]; };
 layout(std430, binding = 2) coherent buffer Scratch { uint scratch[]; };
 layout(push_constant) uniform Push { ClosePush pc; };
 
-#define PG_CLOSE_LIST PG_CLOSE_GLOBAL_BATCH
-#include "segment/refine_close_tile.glsl"
+// Every (x, y) with 0 <= x < W, 0 <= y < H, spread over the workgroup as 16 x 16: strided 2D
+// loops rather than one index, as integer division is slow on CPU devices (lavapipe).
+#define PG_CLOSE_FOR_2D(X_, Y_, W_, H_)                                                      \
+    for (int Y_ = int(gl_LocalInvocationIndex / PG_CLOSE_SIDE); Y_ < (H_); Y_ += PG_CLOSE_SIDE) \
+        for (int X_ = int(gl_LocalInvocationIndex % PG_CLOSE_SIDE); X_ < (W_); X_ += PG_CLOSE_SIDE)
+
+shared uint s_list[PG_CLOSE_GLOBAL_BATCH];  // the batch's instances, ascending
+shared uint s_next;  // smallest candidate above the last one taken
+shared uint s_found;
+shared uint s_has_zero;
+
+// Copies the tile from src to dst; whether it holds a 0-pixel (else it is done).
+bool close_copy_tile(int x0, int y0, int T) {
+    const int w = int(pc.width), h = int(pc.height);
+    if (gl_LocalInvocationIndex == 0u) s_has_zero = 0u;
+    barrier();
+    PG_CLOSE_FOR_2D(lx, ly, T, T) {
+        const int x = x0 + lx, y = y0 + ly;
+        if (x >= w || y >= h) continue;
+        const uint l = src[y * w + x];
+        dst[y * w + x] = l;
+        if (l == 0u) atomicOr(s_has_zero, 1u);
+    }
+    barrier();
+    return s_has_zero != 0u;
+}
+
+// The next (up to) `batch` instances above `prev` within r of the tile, ascending, into
+// s_list; returns how many and advances `prev`. A pixel can only join an instance that has a
+// pixel within r of it, so no other instance matters to the tile.
+uint close_next_batch(inout uint prev, uint batch, int x0, int y0, int T) {
+    const int w = int(pc.width), h = int(pc.height), r = int(pc.radius), win = T + 2 * r;
+    uint count = 0u;
+    for (uint j = 0u; j < batch; ++j) {
+        if (gl_LocalInvocationIndex == 0u) {
+            s_next = 0xFFFFFFFFu;
+            s_found = 0u;
+        }
+        barrier();
+        uint best = 0xFFFFFFFFu;
+        bool any = false;
+        PG_CLOSE_FOR_2D(wx, wy, win, win) {
+            const int x = x0 - r + wx, y = y0 - r + wy;
+            if (x < 0 || y < 0 || x >= w || y >= h) continue;
+            const uint l = src[y * w + x];
+            if (l > prev) {
+                best = min(best, l);
+                any = true;
+            }
+        }
+        if (any) {
+            atomicMin(s_next, best);
+            atomicOr(s_found, 1u);
+        }
+        barrier();
+        const bool found = s_found != 0u;
+        const uint next = s_next;
+        barrier();  // everybody has read them before the next round resets them
+        if (!found) break;  // uniform
+        if (gl_LocalInvocationIndex == 0u) s_list[j] = next;
+        prev = next;
+        count = j + 1u;
+    }
+    barrier();  // s_list complete
+    return count;
+}
+
+// Index of `label` in s_list[0..count), or -1: a binary search with a fixed trip count.
+int close_batch_index(uint label, uint count) {
+    if (label == 0u || label < s_list[0] || label > s_list[count - 1u]) return -1;
+    uint lo = 0u;
+    for (uint step = PG_CLOSE_GLOBAL_BATCH / 2u; step > 0u; step >>= 1u)
+        if (lo + step < count && s_list[lo + step] <= label) lo += step;
+    return s_list[lo] == label ? int(lo) : -1;
+}
+
 
 uint g_m, g_a;  // this workgroup's two arrays in the scratch buffer
 #define M(i) scratch[g_m + uint(i)]

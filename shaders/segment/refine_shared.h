@@ -12,24 +12,27 @@ using uint = uint32_t;
 // Closing (refine_close, refine_close_global): one workgroup closes one square output tile of
 // side T, reading the tile plus a 2r apron (the region, side E = T + 4r). The instances within
 // r of the tile are taken in ascending batches.
-#define PG_CLOSE_SIDE 16  // workgroups of 16 x 16: loops stride in 2D, no integer division
-#define PG_CLOSE_THREADS (PG_CLOSE_SIDE * PG_CLOSE_SIDE)
-// refine_close: a region row is 64 bits (one uvec2) per instance, in shared memory, for
-// batches of PG_CLOSE_BATCH instances; so E <= 64, used while T = 64 - 4r >= PG_CLOSE_MIN_TILE.
+#define PG_CLOSE_THREADS 256
+// refine_close: the region lies in a 64 x 64 grid, a region row is 64 bits (one uvec2) per
+// instance, in shared memory, for batches of PG_CLOSE_BATCH instances. Used while
+// T = 64 - 4r >= PG_CLOSE_MIN_TILE.
 #define PG_CLOSE_REGION 64
-#define PG_CLOSE_BATCH 8
+#define PG_CLOSE_BATCH 16
 #define PG_CLOSE_MIN_TILE 16
 // refine_close_global (larger radii): a uint of instance bits per region pixel, batches of
-// 32, in a global scratch slice per workgroup; T = max(PG_CLOSE_GLOBAL_TILE, 4r).
+// 32, in a global scratch slice per workgroup; T = max(PG_CLOSE_GLOBAL_TILE, 4r); loops
+// stride over the region as 16 x 16.
 #define PG_CLOSE_GLOBAL_BATCH 32
 #define PG_CLOSE_GLOBAL_TILE 32
+#define PG_CLOSE_SIDE 16
 
-// Connected components (refine_cc_*): union-find, first inside 16x16 tiles in shared memory,
-// then across tile borders in global memory. The root of a component is its smallest
-// row-major pixel index.
-#define PG_CC_TILE 16
-#define PG_CC_THREADS (PG_CC_TILE * PG_CC_TILE)
-#define PG_CC_EDGE_THREADS 32  // one tile's top row and left column (31 pixels)
+// Connected components (refine_cc_*): union-find, first inside 32x32 tiles in shared memory
+// (4 pixels per invocation: barriers, not pixels, are what costs on lavapipe), then across
+// tile borders in global memory. The root of a component is its smallest row-major pixel index.
+#define PG_CC_TILE 32
+#define PG_CC_THREADS 256
+#define PG_CC_PIXELS (PG_CC_TILE * PG_CC_TILE / PG_CC_THREADS)  // 4 per invocation
+#define PG_CC_EDGE_THREADS 64  // one tile's top row and left column (63 pixels)
 // What joins two pixels (CcPush.mode).
 #define PG_CC_ZERO_4 0    // both 0, 4-connected (holes)
 #define PG_CC_LABEL_8 1   // same non-zero label, 8-connected (instance components)
@@ -52,7 +55,7 @@ struct ClosePush {
 struct CcPush {
     uint width, height;
     uint mode;         // PG_CC_ZERO_4 or PG_CC_LABEL_8
-    uint write_sizes;  // refine_cc_local: write each tile-local root's pixel count
+    uint write_sizes;  // refine_cc_local: write each tile-local root's pixel count (others stay 0)
 };
 
 // refine_hole_*, refine_lcc_*.
