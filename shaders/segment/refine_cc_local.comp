@@ -4,8 +4,8 @@
 // smallest index of its tile-local component: the tile's row-major order is the image's),
 // parent = self for pixels outside every component, and optionally each tile-local root's
 // pixel count into `sizes` (which must start at 0; nothing else is written there).
-// Rows are first cut into runs, serially; the union-find then only joins runs with the runs
-// above them, where they first meet.
+// Per-pixel values live in shared arrays: the loops over an invocation's pixels hold loops
+// and need not be unrolled.
 #extension GL_GOOGLE_include_directive : require
 #include "segment/refine_shared.h"
 
@@ -32,49 +32,21 @@ void main() {
         const uint i = lid + k * PG_CC_THREADS, lx = i % PG_CC_TILE, ly = i / PG_CC_TILE;
         const bool inside = lx < w_in && ly < h_in;
         const uint l = inside ? labels[(y0 + ly) * pc.width + x0 + lx] : 0u;
+        parent[i] = i;
         s_label[i] = l;
         s_root[i] = inside && cc_member(pc.mode, l) ? i : OUTSIDE;  // members: i for now
         s_count[i] = 0u;
     }
     barrier();
-    // Runs along each row, one invocation per row: every pixel's parent is its run's first
-    // pixel. Walking the row serially keeps the union-find trees flat (lavapipe runs a loop
-    // for as long as its slowest lane, so long chains cost every pixel).
-    if (lid < PG_CC_TILE) {
-        const uint row = lid * PG_CC_TILE;
-        uint head = row;
-        for (uint x = 0u; x < PG_CC_TILE; ++x) {
-            const uint i = row + x;
-            const bool member = s_root[i] != OUTSIDE;
-            if (!member || x == 0u || !cc_joined(pc.mode, s_label[i], s_label[i - 1u])) head = i;
-            parent[i] = member ? head : i;
-        }
-    }
-    barrier();
-    // Joins with the row above, only where a run first meets a run there (the rest of the
-    // contact is reached along the two runs): 8-connected, a pixel after a joined W pixel only
-    // needs NE, and only when N is not joined; 4-connected, N unless W and NW both joined.
     for (uint k = 0u; k < PG_CC_PIXELS; ++k) {
         const uint i = lid + k * PG_CC_THREADS, lx = i % PG_CC_TILE, ly = i / PG_CC_TILE;
-        if (s_root[i] == OUTSIDE || ly == 0u) continue;
+        if (s_root[i] == OUTSIDE) continue;
         const uint l = s_label[i];
-        const bool w_joined = lx > 0u && cc_joined(pc.mode, l, s_label[i - 1u]);
-        const bool n_joined = cc_joined(pc.mode, l, s_label[i - PG_CC_TILE]);
-        const bool nw_joined = lx > 0u && cc_joined(pc.mode, l, s_label[i - PG_CC_TILE - 1u]);
-        if (pc.mode == PG_CC_LABEL_8) {
-            const bool ne_joined = lx + 1u < w_in && cc_joined(pc.mode, l, s_label[i - PG_CC_TILE + 1u]);
-            if (!w_joined) {
-                if (n_joined) {
-                    uf_union(i, i - PG_CC_TILE);
-                } else {
-                    if (nw_joined) uf_union(i, i - PG_CC_TILE - 1u);
-                    if (ne_joined) uf_union(i, i - PG_CC_TILE + 1u);
-                }
-            } else if (!n_joined && ne_joined) {
-                uf_union(i, i - PG_CC_TILE + 1u);
-            }
-        } else if (n_joined && !(w_joined && nw_joined)) {
-            uf_union(i, i - PG_CC_TILE);
+        if (lx > 0u && cc_joined(pc.mode, l, s_label[i - 1u])) uf_union(i, i - 1u);
+        if (ly > 0u && cc_joined(pc.mode, l, s_label[i - PG_CC_TILE])) uf_union(i, i - PG_CC_TILE);
+        if (pc.mode == PG_CC_LABEL_8 && ly > 0u) {
+            if (lx > 0u && cc_joined(pc.mode, l, s_label[i - PG_CC_TILE - 1u])) uf_union(i, i - PG_CC_TILE - 1u);
+            if (lx + 1u < w_in && cc_joined(pc.mode, l, s_label[i - PG_CC_TILE + 1u])) uf_union(i, i - PG_CC_TILE + 1u);
         }
     }
     barrier();

@@ -4,8 +4,8 @@
 // of src: only the pixels that change are written.
 //
 // The tile plus a 2r apron (the region, side E = T + 4r <= 64) sits in a 64 x 64 grid of
-// which every invocation owns 16 cells (column lid % 64, rows lid / 64 + 4k), kept in
-// registers, so loops over pixels have constant trip counts. The instances within r of the
+// which every invocation owns 16 cells (column lid % 64, rows lid / 64 + 4k), held in
+// private arrays: loops over pixels have constant trip counts. The instances within r of the
 // tile (only they can claim its pixels) are collected in one pass while there are at most 32
 // (a shared hash set, then ranked), else chosen smallest first, one per barrier. They are
 // taken in ascending batches of up to 16, so the first batch that covers a pixel holds its
@@ -17,8 +17,8 @@
 //                                                              rows [r, E - r)
 //   y: column erosion, and which rows any instance covers      rows [2r, E - 2r)
 // Region columns past the image are 0 in the pixels, so they dilate nothing; shifts bring in
-// zeros at the grid's edges, which only reaches columns the tile never reads. Barriers are
-// what costs most on lavapipe: 3 per tile, 6 per batch.
+// zeros at the grid's edges, which only reaches columns the tile never reads. Barriers: 3 per
+// tile, 6 per batch.
 //
 // lavapipe ends a shader's loops after 65535 iterations in all (one counter for every loop
 // of the shader). What still iterates here is bounded: the hash probes (at most 16 x 64, once

@@ -27,8 +27,8 @@ using uint = uint32_t;
 #define PG_CLOSE_SIDE 16
 
 // Connected components (refine_cc_*): union-find, first inside 32x32 tiles in shared memory
-// (4 pixels per invocation: barriers, not pixels, are what costs on lavapipe), then across
-// tile borders in global memory. The root of a component is its smallest row-major pixel index.
+// (4 pixels per invocation: fewer workgroups and barriers), then across tile borders in global
+// memory. The root of a component is its smallest row-major pixel index.
 #define PG_CC_TILE 32
 #define PG_CC_THREADS 256
 #define PG_CC_PIXELS (PG_CC_TILE * PG_CC_TILE / PG_CC_THREADS)  // 4 per invocation
