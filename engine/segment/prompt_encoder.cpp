@@ -8,7 +8,8 @@
 namespace pg::seg {
 
 Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, const data::Camera& camera, double u,
-                  double v, bool positive, const render::RenderSettings& settings, const std::string& what) {
+                  double v, bool positive, const render::RenderSettings& settings, const std::string& what,
+                  bool rendered) {
     const int px = int(std::floor(u)), py = int(std::floor(v));
     if (!std::isfinite(u) || !std::isfinite(v) || px < 0 || py < 0 || px >= camera.width || py >= camera.height)
         throw data::InputError(what, "pixel (" + std::to_string(u) + ", " + std::to_string(v) + ") is off the " +
@@ -16,7 +17,7 @@ Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, con
                                          " image of view " + camera.name);
     render::RenderSettings s = settings;
     s.width = s.height = 0;
-    renderer.render(scene, camera, s);
+    if (!rendered) renderer.render(scene, camera, s);
     // One pixel of the aux image: depth, tau-depth, tau id, contributors.
     auto aux = vk::download_vector<glm::uvec4>(renderer.context(), renderer.aux_buffer(), 1,
                                                (uint64_t(py) * uint64_t(camera.width) + uint64_t(px)) * 16);

@@ -24,9 +24,11 @@ struct Anchor {
 
 // Lifts pixel (u, v) of `camera` (column, row; the ray goes through the pixel's centre).
 // Throws InputError naming `what` when the pixel is off the image or opacity never reaches
-// tau there. Renders the view at the camera's own size.
+// tau there. Renders the view at the camera's own size unless `rendered` says the renderer's
+// last frame is already this view with these settings.
 Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, const data::Camera& camera, double u,
-                  double v, bool positive, const render::RenderSettings& settings, const std::string& what);
+                  double v, bool positive, const render::RenderSettings& settings, const std::string& what,
+                  bool rendered = false);
 
 struct RoiBox {
     glm::dvec3 centre{0.0}, length_axis{1, 0, 0}, width_axis{0, 0, 1};

@@ -43,7 +43,14 @@ Anchor Segmenter::anchor_for(const data::PromptClick& click, const render::Rende
     }
     auto it = std::find_if(cameras_.begin(), cameras_.end(), [&](auto& c) { return c.name == click.view; });
     if (it == cameras_.end()) throw data::InputError(what, "no camera named '" + click.view + "'");
-    return lift_click(renderer_, scene_, *it, click.u, click.v, click.positive, settings, what);
+    // A view already in the renderer with the settings that shape the tau-depth needs no second render.
+    const std::string key = click.view + "|" + std::to_string(settings.tau) + "|" + std::to_string(settings.near) +
+                            "|" + std::to_string(settings.antialiased);
+    const bool rendered = rendered_view_ == key;
+    rendered_view_.clear();  // if lifting throws, the frame state is unknown
+    Anchor a = lift_click(renderer_, scene_, *it, click.u, click.v, click.positive, settings, what, rendered);
+    rendered_view_ = key;
+    return a;
 }
 
 SegmentResult Segmenter::segment(const data::Prompts& prompts, const SegmentOptions& o) {

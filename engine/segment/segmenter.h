@@ -70,6 +70,7 @@ private:
     Decoder& decoder_;
     render::Renderer renderer_;
     PromptEncoder encoder_;
+    std::string rendered_view_;  // view and settings renderer_ holds: clicks in one view render it once
 };
 
 }  // namespace pg::seg

@@ -184,3 +184,37 @@ TEST_CASE("ground-truth decoder: foreground is the instance under the positive c
     batch.features[3] = glm::vec2(0.9f, 0.0f);
     CHECK(d.predict(batch) == std::vector<float>{0, 0, 0, 1, 0, 0});
 }
+
+TEST_CASE("segmenter: clicks in the same view give the same anchors whether or not the view is re-rendered") {
+    auto scene = ref::random_scene(9, 4000, 0);
+    std::vector<int32_t> labels(scene.cloud.size());
+    for (size_t i = 0; i < labels.size(); ++i) labels[i] = int32_t(i % 3);
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, scene.cloud);
+    seg::GroundTruthDecoder decoder(labels);
+    const auto& cam = scene.cameras[0];
+    // Find two pixels that reach tau.
+    render::Renderer probe(ctx);
+    probe.render(gpu, cam, {});
+    auto img = probe.read();
+    std::vector<std::pair<int, int>> hits;
+    for (int y = 0; y < img.height && hits.size() < 2; y += 7)
+        for (int x = 0; x < img.width && hits.size() < 2; x += 5)
+            if (img.tau_id[size_t(y) * img.width + x] >= 0) hits.push_back({x, y});
+    REQUIRE(hits.size() == 2);
+    data::Prompts p;
+    p.objects.push_back({"a", 1, {{cam.name, double(hits[0].first), double(hits[0].second), std::nullopt, true},
+                                  {cam.name, double(hits[1].first), double(hits[1].second), std::nullopt, false}}});
+    seg::SegmentOptions o;
+    o.scale = 0.5;
+    seg::Segmenter twice(ctx, scene.cloud, gpu, scene.cameras, decoder);
+    auto r1 = twice.segment(p, o);
+    auto r2 = twice.segment(p, o);  // second run reuses the rendered view
+    REQUIRE(r1.objects[0].anchors.size() == 2);
+    for (size_t k = 0; k < 2; ++k) {
+        CHECK(r1.objects[0].anchors[k].gaussian == img.tau_id[size_t(hits[k].second) * img.width + hits[k].first]);
+        CHECK(r1.objects[0].anchors[k].gaussian == r2.objects[0].anchors[k].gaussian);
+        CHECK(glm::length(r1.objects[0].anchors[k].position - r2.objects[0].anchors[k].position) == 0.0);
+    }
+    CHECK(r1.labels == r2.labels);
+}
