@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "dataset/error.h"
+#include "dataset/random.h"
 
 namespace pg::data {
 
@@ -17,15 +18,6 @@ glm::dvec3 up_from_cameras(const std::vector<Camera>& cameras) {
     return sum / len;
 }
 
-namespace {
-uint64_t splitmix(uint64_t& s) {
-    uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-}  // namespace
-
 glm::dvec3 up_from_ground_plane(const GaussianCloud& cloud, uint64_t seed) {
     const size_t n = cloud.size();
     if (n < 3) throw InputError("scene", "too few Gaussians to fit a ground plane");
@@ -37,14 +29,14 @@ glm::dvec3 up_from_ground_plane(const GaussianCloud& cloud, uint64_t seed) {
     for (auto& p : pts) lo = glm::min(lo, p), hi = glm::max(hi, p);
     const double tolerance = 0.01 * glm::length(hi - lo);
 
-    uint64_t state = seed;
+    Rng rng(seed);
     glm::dvec3 best_n(0, 0, 1);
     glm::dvec3 best_p(0.0);
     size_t best_count = 0;
     for (int round = 0; round < 400; ++round) {
-        const auto& a = pts[splitmix(state) % pts.size()];
-        const auto& b = pts[splitmix(state) % pts.size()];
-        const auto& c = pts[splitmix(state) % pts.size()];
+        const auto& a = pts[rng.next() % pts.size()];
+        const auto& b = pts[rng.next() % pts.size()];
+        const auto& c = pts[rng.next() % pts.size()];
         glm::dvec3 normal = glm::cross(b - a, c - a);
         double len = glm::length(normal);
         if (!(len > 1e-12)) continue;
