@@ -15,6 +15,7 @@
 #include "dataset/camera_import.h"
 #include "dataset/camera_io.h"
 #include "dataset/error.h"
+#include "dataset/json_file.h"
 
 namespace pg::data {
 
@@ -110,12 +111,7 @@ bool holds_colmap_model(const fs::path& dir) {
 enum class JsonKind { inria, nerfstudio, unknown };
 
 JsonKind json_kind(const fs::path& path) {
-    nlohmann::json j;
-    try {
-        j = nlohmann::json::parse(read_text_file(path));
-    } catch (const nlohmann::json::exception& e) {
-        throw InputError(path.string(), std::string("invalid JSON: ") + e.what());
-    }
+    const nlohmann::json j = read_json_file(path);
     if (j.is_object() && j.contains("frames")) return JsonKind::nerfstudio;
     if (j.is_array()) {
         if (j.empty()) return JsonKind::inria;  // its reader reports the empty camera set

@@ -12,6 +12,7 @@
 #include "dataset/camera_import.h"
 #include "dataset/camera_io.h"
 #include "dataset/error.h"
+#include "dataset/json_file.h"
 
 namespace pg::data {
 
@@ -83,12 +84,7 @@ private:
 }  // namespace
 
 std::vector<Camera> read_inria_cameras_json(const fs::path& path) {
-    json doc;
-    try {
-        doc = json::parse(read_text_file(path));
-    } catch (const json::exception& e) {
-        throw InputError(path.string(), std::string("invalid JSON: ") + e.what());
-    }
+    const json doc = read_json_file(path);
     if (!doc.is_array()) throw InputError(path.string(), "expected a JSON array of cameras (INRIA cameras.json)");
 
     std::vector<Camera> cams;

@@ -7,17 +7,13 @@
 
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
+#include "dataset/json_file.h"
 
 namespace pg::data {
 
 Prompts read_prompts(const std::filesystem::path& path) {
     const std::string where = path.string();
-    nlohmann::json j;
-    try {
-        j = nlohmann::json::parse(read_text_file(path));
-    } catch (const nlohmann::json::exception& e) {
-        throw InputError(where, std::string("not valid JSON: ") + e.what());
-    }
+    const nlohmann::json j = read_json_file(path);
     if (!j.is_object() || !j.contains("objects") || !j["objects"].is_array())
         throw InputError(where, "expected an object with an \"objects\" array");
     Prompts p;

@@ -15,6 +15,7 @@
 #include "dataset/camera_import.h"
 #include "dataset/camera_io.h"
 #include "dataset/error.h"
+#include "dataset/json_file.h"
 
 namespace pg::data {
 
@@ -154,12 +155,7 @@ Camera read_frame(const FrameReader& in) {
 }  // namespace
 
 std::vector<Camera> read_transforms_json(const fs::path& path) {
-    json doc;
-    try {
-        doc = json::parse(read_text_file(path));
-    } catch (const json::exception& e) {
-        throw InputError(path.string(), std::string("invalid JSON: ") + e.what());
-    }
+    const json doc = read_json_file(path);
     if (!doc.is_object() || !doc.contains("frames"))
         throw InputError(path.string(), "expected a JSON object with 'frames' (nerfstudio transforms.json)");
     const json& frames = doc["frames"];

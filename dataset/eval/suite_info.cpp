@@ -6,6 +6,7 @@
 
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
+#include "dataset/json_file.h"
 
 namespace pg::data::eval {
 
@@ -13,14 +14,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-
-json parse_json_file(const fs::path& path) {
-    try {
-        return json::parse(read_text_file(path));
-    } catch (const json::exception& e) {
-        throw InputError(path.string(), std::string("not valid JSON: ") + e.what());
-    }
-}
 
 // Scene names become folder names: refuse anything that could leave the suite folder.
 void check_scene_name(const fs::path& file, const std::string& name) {
@@ -46,7 +39,7 @@ const std::vector<std::string>& SuiteInfo::split(const std::string& which) const
 
 SuiteInfo read_suite_json(const fs::path& suite_dir) {
     const fs::path file = suite_dir / "suite.json";
-    const json j = parse_json_file(file);
+    const json j = read_json_file(file);
     SuiteInfo s;
     try {
         if (!j.is_object()) throw InputError(file.string(), "expected a JSON object");
@@ -72,7 +65,7 @@ SuiteInfo read_suite_json(const fs::path& suite_dir) {
 std::vector<InstanceInfo> read_scene_instances(const fs::path& scene_dir) {
     const fs::path file = scene_dir / "meta.json";
     if (!fs::exists(file)) return {};
-    const json j = parse_json_file(file);
+    const json j = read_json_file(file);
     std::vector<InstanceInfo> out;
     try {
         for (const json& i : j.value("instances", json::array()))
