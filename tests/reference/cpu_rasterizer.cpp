@@ -162,6 +162,14 @@ bool project_gaussian(const pg::data::GaussianCloud& cloud, size_t i, const pg::
     return true;
 }
 
+float splat_alpha(const ProjectedGaussian& g, glm::vec2 centre) {
+    const glm::vec2 d = g.mean2d - centre;
+    const float power = -0.5f * (g.conic.x * d.x * d.x + g.conic.z * d.y * d.y) - g.conic.y * d.x * d.y;
+    if (power > 0.0f) return 0.0f;
+    const float alpha = std::min(kMaxAlpha, g.opacity * std::exp(power));
+    return alpha < kMinAlpha ? 0.0f : alpha;
+}
+
 RefImage render_reference(const pg::data::GaussianCloud& cloud, const pg::data::Camera& camera,
                           const RefOptions& options) {
     const int width = camera.width, height = camera.height;
@@ -217,12 +225,8 @@ RefImage render_reference(const pg::data::GaussianCloud& cloud, const pg::data::
                 const PixelRect& r = rects[s];
                 if (x < r.x0 || x > r.x1 || y < r.y0 || y > r.y1) continue;
                 const ProjectedGaussian& g = splats[s];
-                const glm::vec2 d = g.mean2d - centre;
-                const float power =
-                    -0.5f * (g.conic.x * d.x * d.x + g.conic.z * d.y * d.y) - g.conic.y * d.x * d.y;
-                if (power > 0.0f) continue;
-                const float alpha = std::min(kMaxAlpha, g.opacity * std::exp(power));
-                if (alpha < kMinAlpha) continue;
+                const float alpha = splat_alpha(g, centre);
+                if (alpha == 0.0f) continue;
                 const float test_T = T * (1.0f - alpha);
                 if (test_T < kMinTransmittance) break;
                 const float w = alpha * T;

@@ -47,6 +47,10 @@ struct ProjectedGaussian {
 bool project_gaussian(const pg::data::GaussianCloud& cloud, size_t i, const pg::data::Camera& camera,
                       const RefOptions& options, ProjectedGaussian& out);
 
+// The alpha a projected Gaussian adds at a pixel centre: min(0.99, o * exp(power)), or 0
+// where the model skips it (power > 0 or alpha < 1/255). Shared by the reference passes.
+float splat_alpha(const ProjectedGaussian& g, glm::vec2 centre);
+
 RefImage render_reference(const pg::data::GaussianCloud& cloud, const pg::data::Camera& camera,
                           const RefOptions& options = {});
 

@@ -7,8 +7,6 @@
 namespace pg::ref {
 namespace {
 
-constexpr float kMinAlpha = 1.0f / 255.0f;
-constexpr float kMaxAlpha = 0.99f;
 constexpr float kMinTransmittance = 1e-4f;
 
 // q^T d d form of the symmetric matrix [[q.x, q.y], [q.y, q.z]], evaluated in the GPU's order.
@@ -152,12 +150,8 @@ std::vector<uint32_t> label_reference(const pg::data::GaussianCloud& cloud, cons
                 float T = 1.0f;
                 for (uint32_t s : list) {
                     const ProjectedGaussian& g = bins.splats[s];
-                    const glm::vec2 d = g.mean2d - centre;
-                    const float power =
-                        -0.5f * (g.conic.x * d.x * d.x + g.conic.z * d.y * d.y) - g.conic.y * d.x * d.y;
-                    if (power > 0.0f) continue;
-                    const float alpha = std::min(kMaxAlpha, g.opacity * std::exp(power));
-                    if (alpha < kMinAlpha) continue;
+                    const float alpha = splat_alpha(g, centre);
+                    if (alpha == 0.0f) continue;
                     const float test_T = T * (1.0f - alpha);
                     if (test_T < kMinTransmittance) break;
                     slots.add(label_of(g), alpha * T);
