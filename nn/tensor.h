@@ -56,7 +56,9 @@ private:
     uint64_t live_ = 0, peak_ = 0, reserved_ = 0;
 };
 
-// Host <-> tensor copies (they wait for the device; use outside recorded streams).
+// Host <-> tensor copies. They act at once, not in a stream: while a CommandList is recording,
+// a fresh tensor may reuse a buffer its earlier commands still use, so upload small data
+// there with cmd.update instead.
 Tensor upload_tensor(Pool& pool, const void* data, std::vector<int64_t> shape, DType dtype);
 template <class T> Tensor upload_tensor(Pool& pool, const std::vector<T>& v, std::vector<int64_t> shape, DType dtype) {
     return upload_tensor(pool, v.data(), std::move(shape), dtype);

@@ -118,6 +118,7 @@ void register_bench(CLI::App& app, std::function<void()>& run) {
     add_device_option(*cmd, a->device);
     cmd->callback([a, &run] { run = [a] { run_bench_render(*a); }; });
     register_bench_segment(*bench, run);
+    register_bench_ptv3(*bench, run);
 }
 
 }  // namespace pg::app

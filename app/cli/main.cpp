@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     pg::app::register_eval(app, run);
     pg::app::register_segment(app, run);
     pg::app::register_prompts(app, run);
+    pg::app::register_infer(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -108,7 +108,7 @@ private:
     bool pass_open_ = false;
     std::vector<PassTiming> timings_;
     uint64_t dispatches_ = 0;
-    static constexpr uint32_t kMaxQueries = 256;
+    static constexpr uint32_t kMaxQueries = 4096;  // a PTv3 forward times ~1000 passes
 };
 
 }  // namespace pg::vk

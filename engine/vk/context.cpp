@@ -83,6 +83,7 @@ Context::Context(const ContextOptions& options) : options_(options) {
 
 Context::~Context() {
     if (device_) vkDeviceWaitIdle(device_);
+    attachments_.clear();
     pipelines_.clear();
     if (device_) vkDestroyDevice(device_, nullptr);
     if (messenger_) {

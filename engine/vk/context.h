@@ -60,6 +60,16 @@ public:
     // Pipelines are built once per shader name and kept for the context's life.
     ComputePipeline& pipeline(const std::string& shader, uint32_t buffer_count, uint32_t push_bytes);
 
+    // State owned by the context, made on first use by T(Context&) and destroyed before the
+    // device: scratch buffers of ops that are free functions (they must outlive the command
+    // lists they were recorded into, so they cannot be locals).
+    template <class T> T& attachment(const std::string& key) {
+        auto& slot = attachments_[key];
+        if (!slot) slot = std::make_shared<T>(*this);
+        return *static_cast<T*>(slot.get());
+    }
+    void detach(const std::string& key) { attachments_.erase(key); }
+
     // Validation messages seen so far (warnings and errors); tests fail when non-zero.
     static uint64_t validation_message_count();
 
@@ -73,6 +83,7 @@ private:
     void pick_device(const std::string& wanted);
     void create_device();
 
+    std::map<std::string, std::shared_ptr<void>> attachments_;
     VkInstance instance_ = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
     VkPhysicalDevice physical_ = VK_NULL_HANDLE;

@@ -1,0 +1,228 @@
+// pointgauss bench ptv3: GPU ms per op family and in total, wall ms and peak device memory of
+// one PTv3 forward (medians over repeated runs), and the effective GFLOP/s. `--model paper`
+// or `small` builds seeded weights of that config (nn/ptv3/seeded_weights.h); the input is a
+// synthetic click crop: surface samples of boxes and spheres, one point per voxel, with
+// positive/negative click weights as features.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "app/cli/commands.h"
+#include "app/cli/progress.h"
+#include "dataset/atomic_file.h"
+#include "dataset/error.h"
+#include "dataset/random.h"
+#include "engine/vk/context.h"
+#include "nn/ptv3/model.h"
+#include "nn/ptv3/seeded_weights.h"
+#include "nn/safetensors.h"
+
+namespace pg::app {
+
+namespace {
+
+struct BenchPtv3Args {
+    std::string model = "paper", input;
+    int points = 8192, repeats = 5, warmup = 1;
+    uint64_t seed = 1;
+    bool json = false;
+    DeviceOptions device;
+};
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+// n distinct voxels on the surfaces of a few boxes and spheres over a floor, like a click crop.
+nn::Ptv3Input synthetic_crop(int n, int channels, double grid, uint64_t seed) {
+    data::Rng rng(seed);
+    struct Shape {
+        bool sphere;
+        double cx, cy, cz, sx, sy, sz;
+    };
+    std::vector<Shape> shapes;
+    const double extent = std::max(1.0, std::sqrt(double(n)) * grid * 0.35);
+    for (int i = 0; i < 5; ++i) {
+        double s = rng.uniform(0.15, 0.35) * extent;
+        shapes.push_back({i % 2 == 1, rng.uniform(-0.6, 0.6) * extent, rng.uniform(-0.6, 0.6) * extent, s, s,
+                          rng.uniform(0.8, 1.2) * s, rng.uniform(0.8, 1.6) * s});
+    }
+    std::set<std::tuple<long, long, long>> seen;
+    nn::Ptv3Input in;
+    size_t guard = 0;
+    while (int(in.size()) < n && ++guard < size_t(n) * 200) {
+        double x, y, z;
+        const int pick = rng.below(int(shapes.size()) + 1);
+        if (pick == int(shapes.size())) {  // floor
+            x = rng.uniform(-extent, extent), y = rng.uniform(-extent, extent), z = 0;
+        } else {
+            const Shape& s = shapes[size_t(pick)];
+            if (s.sphere) {
+                double u = rng.normal(), v = rng.normal(), w = rng.normal(), r = std::sqrt(u * u + v * v + w * w) + 1e-12;
+                x = s.cx + s.sx * u / r, y = s.cy + s.sx * v / r, z = s.cz + s.sx * w / r;
+            } else {
+                double p[3] = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
+                p[rng.below(3)] = rng.sign();
+                x = s.cx + s.sx * 0.5 * p[0], y = s.cy + s.sy * 0.5 * p[1], z = s.sz * 0.5 * (1 + p[2]);
+            }
+        }
+        if (!seen.insert({std::lround(std::floor(x / grid)), std::lround(std::floor(y / grid)),
+                          std::lround(std::floor(z / grid))})
+                 .second)
+            continue;
+        in.coord.insert(in.coord.end(), {float(x), float(y), float(z)});
+    }
+    if (int(in.size()) < n) throw data::InputError("--points", "could not place " + std::to_string(n) + " distinct voxels");
+    // Click weights: a positive click on the first shape, a negative one on the second.
+    const double sigma = 0.15 * extent;
+    const size_t m = in.size();
+    in.feat.assign(m * size_t(channels), 0.0f);
+    for (size_t i = 0; i < m; ++i)
+        for (int ch = 0; ch < std::min(channels, 2); ++ch) {
+            const Shape& s = shapes[size_t(ch)];
+            double dx = in.coord[3 * i] - s.cx, dy = in.coord[3 * i + 1] - s.cy, dz = in.coord[3 * i + 2] - s.sz;
+            in.feat[i * size_t(channels) + size_t(ch)] = float(std::exp(-(dx * dx + dy * dy + dz * dz) / (2 * sigma * sigma)));
+        }
+    return in;
+}
+
+void run_bench_ptv3(const BenchPtv3Args& a) {
+    if (a.points < 1) throw data::InputError("--points", "must be at least 1");
+    if (a.repeats < 1) throw data::InputError("--repeats", "must be at least 1");
+    vk::ContextOptions co;
+    co.device = a.device.device;
+    co.quiet = a.json;
+    vk::Context ctx(co);
+    auto pool = nn::Pool::create(ctx);
+    nn::Ptv3Weights weights;
+    if (a.model == "paper" || a.model == "small") {
+        auto config = a.model == "paper" ? nn::Ptv3Config::paper() : nn::Ptv3Config::small();
+        weights = nn::Ptv3Weights::from_host(*pool, config, nn::seeded_weights(config), "seeded " + a.model);
+    } else {
+        try {
+            weights = nn::Ptv3Weights::load(*pool, a.model);
+        } catch (const nn::FormatError& e) {
+            throw data::InputError("--model", e.what());
+        }
+    }
+    const nn::Ptv3Config config = weights.config();
+    const long long params = weights.parameter_count();
+    nn::Ptv3 model(*pool, std::move(weights));
+    nn::Ptv3Input in;
+    if (a.input.empty()) {
+        in = synthetic_crop(a.points, config.in_channels, config.grid_size, a.seed);
+    } else {  // coord f32 [N,3] then feat f32 [N,C], as `infer` reads it
+        const std::vector<char> raw = data::read_file(a.input);
+        const size_t row = sizeof(float) * size_t(3 + config.in_channels);
+        if (raw.empty() || raw.size() % row)
+            throw data::InputError(a.input, "is not a whole number of points (" + std::to_string(row) + " bytes each)");
+        const size_t n = raw.size() / row;
+        in.coord.resize(3 * n);
+        in.feat.resize(n * size_t(config.in_channels));
+        std::memcpy(in.coord.data(), raw.data(), in.coord.size() * 4);
+        std::memcpy(in.feat.data(), raw.data() + in.coord.size() * 4, in.feat.size() * 4);
+    }
+    in.count_conv_pairs = true;
+
+    std::vector<std::string> families;
+    std::map<std::string, std::vector<double>> family_ms;
+    std::vector<double> wall, gpu;
+    std::map<std::string, double> flops;
+    std::vector<int64_t> level_points;
+    uint64_t peak = 0;
+    Progress progress("bench ptv3", size_t(a.warmup + a.repeats));
+    for (int r = 0; r < a.warmup + a.repeats; ++r) {
+        pool->reset_peak();
+        auto t0 = std::chrono::steady_clock::now();
+        nn::Ptv3Output out = model.forward(in);
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        progress.step();
+        in.count_conv_pairs = false;
+        if (r == 0) {
+            flops = out.flops;
+            level_points = out.level_points;
+        }
+        peak = std::max(peak, pool->peak_bytes());
+        if (r < a.warmup) continue;
+        std::map<std::string, double> sum;
+        double total = 0;
+        for (const auto& p : out.passes) {
+            if (!sum.count(p.name) && std::find(families.begin(), families.end(), p.name) == families.end())
+                families.push_back(p.name);
+            sum[p.name] += p.ms;
+            total += p.ms;
+        }
+        for (const auto& f : families) family_ms[f].push_back(sum[f]);
+        wall.push_back(ms);
+        gpu.push_back(total);
+    }
+    progress.finish();
+    double total_flops = 0;
+    for (const auto& [k, v] : flops) total_flops += v;
+    const double wall_med = median(wall), gpu_med = median(gpu);
+    const double weights_mb = double(params) * 4 / 1048576.0;
+
+    if (a.json) {
+        nlohmann::json j;
+        j["device"] = ctx.info().name;
+        j["model"] = a.model;
+        j["parameters"] = params;
+        j["points"] = in.size();
+        j["level_points"] = level_points;
+        j["repeats"] = a.repeats;
+        for (const auto& f : families) j["family_ms"][f] = median(family_ms[f]);
+        j["gpu_ms"] = gpu_med;
+        j["wall_ms"] = wall_med;
+        j["gflop"] = total_flops * 1e-9;
+        for (const auto& [k, v] : flops) j["gflop_by_family"][k] = v * 1e-9;
+        j["gflops_per_s"] = total_flops * 1e-6 / wall_med;
+        j["peak_activation_mib"] = double(peak) / 1048576.0;
+        j["weights_mib"] = weights_mb;
+        std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    std::printf("device: %s\nmodel: %s (%lld parameters), %zu points -> levels", ctx.info().name.c_str(), a.model.c_str(),
+                params, in.size());
+    for (auto n : level_points) std::printf(" %lld", (long long)n);
+    std::printf("\nmedian of %d runs\n\n%-12s %10s %7s\n", a.repeats, "ops", "GPU ms", "share");
+    for (const auto& f : families) {
+        const double m = median(family_ms[f]);
+        std::printf("%-12s %10.2f %6.1f%%\n", f.c_str(), m, 100 * m / std::max(gpu_med, 1e-9));
+    }
+    std::printf("%-12s %10.2f\n%-12s %10.2f\n\n", "GPU total", gpu_med, "wall", wall_med);
+    std::printf("work: %.2f GFLOP (", total_flops * 1e-9);
+    bool first = true;
+    for (const auto& [k, v] : flops) {
+        std::printf("%s%s %.2f", first ? "" : ", ", k.c_str(), v * 1e-9);
+        first = false;
+    }
+    std::printf(") -> %.1f GFLOP/s over wall time\n", total_flops * 1e-6 / wall_med);
+    std::printf("memory: weights %.1f MiB, peak activations %.1f MiB\n", weights_mb, double(peak) / 1048576.0);
+}
+
+}  // namespace
+
+void register_bench_ptv3(CLI::App& bench, std::function<void()>& run) {
+    auto a = std::make_shared<BenchPtv3Args>();
+    auto* cmd = bench.add_subcommand("ptv3", "GPU ms per op family, wall ms, GFLOP/s and peak memory of a PTv3 forward");
+    cmd->add_option("--model", a->model, "A model file, or 'paper' / 'small' for seeded weights of that config")
+        ->capture_default_str();
+    cmd->add_option("--points", a->points, "Points in the synthetic input crop")->capture_default_str();
+    cmd->add_option("--input", a->input, "Use this input instead (coord f32 [N,3] then feat f32 [N,C], as for infer)");
+    cmd->add_option("--repeats", a->repeats, "Timed runs (medians are reported)")->capture_default_str();
+    cmd->add_option("--warmup", a->warmup, "Untimed runs first")->capture_default_str();
+    cmd->add_option("--seed", a->seed, "Seed of the synthetic input")->capture_default_str();
+    cmd->add_flag("--json", a->json, "Print JSON instead of a table");
+    add_device_option(*cmd, a->device);
+    cmd->callback([a, &run] { run = [a] { run_bench_ptv3(*a); }; });
+}
+
+}  // namespace pg::app

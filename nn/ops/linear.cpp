@@ -1,0 +1,188 @@
+#include "nn/ops/linear.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "engine/vk/context.h"
+#include "nn/ops/elementwise.h"
+#include "shaders/nn/gemm_shared.glsl"
+
+namespace pg::nn::ops {
+
+namespace {
+
+GemmPath g_path = GemmPath::Auto;
+
+// Largest index a shader computes in 32-bit arithmetic.
+constexpr uint64_t kMaxIndex = 0xFFFFFFFFull;
+
+// The A operand: x itself, or x's rows gathered through nbr (gemm_shared.glsl).
+struct Gemm {
+    const Tensor& x;
+    const Tensor* nbr;  // null when dense
+    const Tensor& w;
+    const Tensor& bias;
+    const Tensor& residual;
+    uint32_t M, N, K, cin, taps;
+    bool gelu = false;
+};
+
+uint32_t ceil_div(uint64_t a, uint64_t b) { return uint32_t((a + b - 1) / b); }
+
+void expect_f32(const Tensor& t, const char* op, const char* what) {
+    if (t.dtype != DType::F32)
+        throw std::invalid_argument(std::string(op) + ": " + what + " must be f32, got " + dtype_name(t.dtype));
+}
+
+void check_size(uint64_t n, const char* op) {
+    if (n > kMaxIndex) throw std::invalid_argument(std::string(op) + ": tensor too large for 32-bit indexing");
+}
+
+uint32_t flags_of(const Gemm& g) {
+    return (g.bias.defined() ? PG_GEMM_BIAS : 0u) | (g.residual.defined() ? PG_GEMM_RESIDUAL : 0u) |
+           (g.nbr ? PG_GEMM_GATHER : 0u) | (g.gelu ? PG_GEMM_GELU : 0u);
+}
+
+// lanes: one dispatch per depth chunk of 64 (32 for a short last one), each accumulating in y.
+// Returns false when GELU is still to be applied (the common variants have it built in).
+bool run_lanes(vk::CommandList& cmd, const Gemm& g, const Tensor& y) {
+    const uint32_t wg = g.M <= 128 ? 64 : 256;  // fewer idle lanes for short matrices
+    const bool a_vec = g.K % 8 == 0 && g.K > 0 && (g.nbr ? g.cin % 32 == 0 : g.cin % 8 == 0);
+    const bool y_vec = g.N % 8 == 0;
+    const bool fused_gelu = g.gelu && a_vec && y_vec;  // the variants that exist
+    gpu::GemmPush push{g.M, g.N, g.K, 0, 0, g.cin, g.taps, ceil_div(g.N, PG_LANES_NC)};
+    const uint64_t groups = uint64_t(ceil_div(g.M, wg)) * push.col_tiles;
+    const Tensor& bias = g.bias.defined() ? g.bias : g.w;  // unused bindings get any buffer
+    const Tensor& res = g.residual.defined() ? g.residual : g.x;
+    const Tensor& nbr = g.nbr ? *g.nbr : g.x;
+    uint32_t k0 = 0;
+    do {
+        // Scalar A loads make big shaders that buy little from deeper chunks: 32 for them.
+        const uint32_t kc = a_vec && g.K - k0 > 32 ? 64 : 32;
+        const bool last = k0 + kc >= g.K;
+        const std::string shader = "nn/linear_lanes_w" + std::to_string(wg) + "_k" + std::to_string(kc) +
+                                   (a_vec ? "_avec" : "_aone") + (y_vec ? "_yvec" : "_yone") +
+                                   (last && fused_gelu ? "_gelu" : "");
+        push.k0 = k0;
+        push.flags = flags_of(g) | (k0 == 0 ? PG_GEMM_FIRST : 0u);
+        cmd.dispatch(shader, {g.x, g.w, bias, res, y, nbr}, push, groups);
+        k0 += kc;
+    } while (k0 < g.K);
+    return !g.gelu || fused_gelu;
+}
+
+// tiled: 64x64 tiles; split-K when there are few tiles and a deep K, so the GPU fills up.
+void run_tiled(vk::CommandList& cmd, Pool& pool, const Gemm& g, const Tensor& y) {
+    const uint32_t tiles_m = ceil_div(g.M, PG_TILE_M), tiles_n = ceil_div(g.N, PG_TILE_N);
+    const uint64_t tiles = uint64_t(tiles_m) * tiles_n;
+    uint32_t splits = 1;
+    if (tiles < 64 && g.K >= 1024)
+        splits = uint32_t(std::clamp<uint64_t>(std::min<uint64_t>(g.K / 512, 128 / tiles), 1, 32));
+    const uint32_t k_per = ceil_div(ceil_div(g.K, splits), PG_TILE_K) * PG_TILE_K;
+    if (splits > 1) splits = ceil_div(g.K, k_per);
+
+    const Tensor& bias = g.bias.defined() ? g.bias : g.w;
+    const Tensor& res = g.residual.defined() ? g.residual : g.x;
+    const Tensor& nbr = g.nbr ? *g.nbr : g.x;
+    gpu::GemmPush push{g.M, g.N, g.K, k_per, flags_of(g), g.cin, g.taps, tiles_n};
+    if (splits == 1) {
+        cmd.dispatch("nn/linear", {g.x, g.w, bias, res, y, nbr}, push, tiles);
+        return;
+    }
+    check_size(uint64_t(splits) * g.M * g.N, "linear");
+    Tensor part = pool.empty({int64_t(splits), int64_t(g.M), int64_t(g.N)});
+    push.flags |= PG_GEMM_PARTIAL;
+    cmd.dispatch("nn/linear", {g.x, g.w, bias, res, part, nbr}, push, tiles * splits);
+    gpu::GemmReducePush rp{g.M, g.N, splits, flags_of(g)};
+    cmd.dispatch("nn/linear_reduce", {part, bias, res, y}, rp, ceil_div(uint64_t(g.M) * g.N, 256));
+}
+
+bool lanes_for(vk::Context& ctx) {
+    switch (g_path) {
+    case GemmPath::Lanes: return true;
+    case GemmPath::Tiled: return false;
+    case GemmPath::Auto: break;
+    }
+    return ctx.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+}
+
+Tensor run(vk::CommandList& cmd, Pool& pool, const Gemm& g, std::vector<int64_t> out_shape) {
+    Tensor y = pool.empty(std::move(out_shape));
+    if (g.M == 0 || g.N == 0) return y;
+    if (!lanes_for(pool.context())) {
+        run_tiled(cmd, pool, g, y);
+    } else if (!run_lanes(cmd, g, y)) {
+        return gelu(cmd, pool, y);
+    }
+    return y;
+}
+
+void check_bias_residual(const char* op, const Tensor& bias, const Tensor& residual, int64_t M, int64_t N,
+                         const std::vector<int64_t>& out_shape) {
+    if (bias.defined()) {
+        expect_f32(bias, op, "bias");
+        if (bias.numel() != N || bias.shape.size() != 1)
+            throw std::invalid_argument(std::string(op) + ": bias " + bias.shape_string() + " must be [" +
+                                        std::to_string(N) + "]");
+    }
+    if (residual.defined()) {
+        expect_f32(residual, op, "residual");
+        if (residual.shape != out_shape)
+            throw std::invalid_argument(std::string(op) + ": residual " + residual.shape_string() +
+                                        " must match the output [" + std::to_string(M) + "," + std::to_string(N) + "]");
+    }
+}
+
+}  // namespace
+
+void set_gemm_path(GemmPath path) { g_path = path; }
+GemmPath gemm_path() { return g_path; }
+
+Tensor linear(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& w, const Tensor& bias,
+              const Tensor& residual, Activation act) {
+    expect_f32(x, "linear", "x");
+    expect_f32(w, "linear", "weight");
+    if (w.shape.size() != 2) throw std::invalid_argument("linear: weight " + w.shape_string() + " must be [N, K]");
+    if (x.shape.size() != 1 && x.shape.size() != 2)
+        throw std::invalid_argument("linear: x " + x.shape_string() + " must be [M, K] or [K]");
+    const int64_t K = x.dim(-1), M = x.shape.size() == 2 ? x.dim(0) : 1, N = w.dim(0);
+    if (w.dim(1) != K)
+        throw std::invalid_argument("linear: x " + x.shape_string() + " and weight " + w.shape_string() +
+                                    " disagree on K");
+    std::vector<int64_t> out = x.shape.size() == 2 ? std::vector<int64_t>{M, N} : std::vector<int64_t>{N};
+    check_bias_residual("linear", bias, residual, M, N, out);
+    check_size(uint64_t(M) * uint64_t(std::max(K, N)), "linear");
+    check_size(uint64_t(N) * uint64_t(K), "linear");
+    if (act != Activation::None && residual.defined())
+        throw std::invalid_argument("linear: an activation and a residual together are not supported");
+    Gemm g{x, nullptr, w, bias, residual, uint32_t(M), uint32_t(N), uint32_t(K), uint32_t(K), 1, act == Activation::Gelu};
+    return run(cmd, pool, g, std::move(out));
+}
+
+Tensor sparse_conv(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& nbr, const Tensor& w,
+                   const Tensor& bias) {
+    expect_f32(x, "sparse_conv", "x");
+    expect_f32(w, "sparse_conv", "weight");
+    if (nbr.dtype != DType::I32)
+        throw std::invalid_argument(std::string("sparse_conv: neighbour table must be i32, got ") + dtype_name(nbr.dtype));
+    if (x.shape.size() != 2) throw std::invalid_argument("sparse_conv: x " + x.shape_string() + " must be [P, Cin]");
+    if (nbr.shape.size() != 2)
+        throw std::invalid_argument("sparse_conv: neighbour table " + nbr.shape_string() + " must be [M, T]");
+    const int64_t P = x.dim(0), cin = x.dim(1), M = nbr.dim(0), T = nbr.dim(1);
+    // [Cout, T*Cin] or the checkpoint's [Cout, kx, ky, kz, Cin]: rows of T*Cin either way.
+    if (w.shape.size() < 2 || w.numel() != w.dim(0) * T * cin)
+        throw std::invalid_argument("sparse_conv: weight " + w.shape_string() + " must be [Cout, " +
+                                    std::to_string(T) + "*" + std::to_string(cin) + "]");
+    const int64_t N = w.dim(0), K = T * cin;
+    check_bias_residual("sparse_conv", bias, {}, M, N, {M, N});
+    check_size(uint64_t(P) * uint64_t(cin), "sparse_conv");
+    check_size(uint64_t(M) * uint64_t(std::max(T, N)), "sparse_conv");
+    check_size(uint64_t(N) * uint64_t(K), "sparse_conv");
+    static const Tensor none;
+    Gemm g{x, &nbr, w, bias, none, uint32_t(M), uint32_t(N), uint32_t(K), uint32_t(cin), uint32_t(T)};
+    if (T == 0 || cin == 0) g.K = 0;
+    return run(cmd, pool, g, {M, N});
+}
+
+}  // namespace pg::nn::ops

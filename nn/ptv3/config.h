@@ -1,0 +1,37 @@
+#pragma once
+// The PTv3 configuration: the subset of Pointcept's PointTransformerV3 arguments that shape
+// the network. It travels as JSON in a model file's __metadata__["config"], with the keys
+// of Pointcept's constructor (in_channels, enc_channels, ...) plus grid_size.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace pg::nn {
+
+struct Ptv3Config {
+    int in_channels = 2;
+    int num_classes = 2;
+    std::vector<std::string> order{"z", "z-trans", "hilbert", "hilbert-trans"};
+    std::vector<int> stride{2, 2, 2, 2};
+    std::vector<int> enc_depths, enc_channels, enc_num_head, enc_patch_size;
+    std::vector<int> dec_depths, dec_channels, dec_num_head, dec_patch_size;
+    int mlp_ratio = 4;
+    bool qkv_bias = true;
+    double qk_scale = 0;  // 0: head_dim^-0.5
+    double grid_size = 0.02;
+
+    int stages() const { return int(enc_channels.size()); }
+    // The paper's interactive model (46.15 M parameters) and the reduced config of the golden fixture.
+    static Ptv3Config paper();
+    static Ptv3Config small();
+    // Throws std::invalid_argument naming the key when a value is missing, inconsistent or unsupported
+    // (cls_mode, RPE, post-norm and PDNorm are not implemented).
+    static Ptv3Config from_json(const nlohmann::json& j);
+    nlohmann::json to_json() const;
+    // Trainable parameters of the network this config describes (checks a checkpoint's size).
+    long long parameter_count() const;
+    void validate() const;
+};
+
+}  // namespace pg::nn

@@ -1,0 +1,108 @@
+// Serialized window attention (PTv3, no RPE) for CPU drivers such as lavapipe, where every
+// memory load is a loop over the SIMD lanes, even when all lanes read the same address. So
+// there is no shared-memory staging (a second round of such loops): each invocation reads the
+// window's keys and values straight from qkv, 64 bits per component (twice the floats per
+// lane-loop iteration of a vec4), and every loaded key and value serves its ROWS queries.
+// The including shader defines PG_ATTN_D (head dimension, a multiple of 8).
+#extension GL_EXT_control_flow_attributes : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#include "nn/attention_config.glsl"
+
+#define D4 (PG_ATTN_D / 4)
+#define D8 (PG_ATTN_D / 8)
+#define ROWS PG_ATTN_CPU_ROWS(PG_ATTN_D)
+#define THREADS PG_ATTN_CPU_THREADS
+#define BLOCK (THREADS * ROWS)
+#define GROUP PG_ATTN_GROUP
+
+layout(local_size_x = THREADS) in;
+layout(std430, binding = 0) readonly buffer Qkv { u64vec4 qkv[]; };  // [N, 3C], 8 floats each
+#include "nn/attention_common.glsl"
+
+// D floats starting at element `at` of qkv, as D4 vec4s.
+void load_head(uint at, out vec4 v[D4]) {
+    [[unroll]] for (uint i = 0u; i < D8; ++i) {
+        const u64vec4 x = qkv[at + i];
+        v[2u * i] = uintBitsToFloat(uvec4(unpackUint2x32(x.x), unpackUint2x32(x.y)));
+        v[2u * i + 1u] = uintBitsToFloat(uvec4(unpackUint2x32(x.z), unpackUint2x32(x.w)));
+    }
+}
+
+void main() {
+    QueryBlock qb;
+    if (!query_block(qb)) return;
+    const int span = min(int(pc.window), qb.n);
+    const uint t = gl_LocalInvocationIndex;
+    const uint stride = 3u * pc.channels / 8u;
+    const uint q_col = qb.head * D8;
+    const uint k_col = (pc.channels + qb.head * PG_ATTN_D) / 8u;
+    const uint v_col = (2u * pc.channels + qb.head * PG_ATTN_D) / 8u;
+
+    for (int w = qb.q0 / int(pc.window); w * int(pc.window) < qb.q1; ++w) {
+        const int s0 = max(qb.q0, w * int(pc.window)), s1 = min(qb.q1, (w + 1) * int(pc.window));
+        const int key0 = window_start(qb, w);
+
+        vec4 q[ROWS * D4], acc[ROWS * D4];
+        float m[ROWS], l[ROWS];
+        [[unroll]] for (uint r = 0u; r < ROWS; ++r) {
+            // Lanes past the window compute a copy of its first query and write nothing.
+            const int at = clamp(qb.q0 + int(r * THREADS + t), s0, s1 - 1);
+            vec4 qr[D4];
+            load_head(point_at(qb.base + at) * stride + q_col, qr);
+            [[unroll]] for (uint d = 0u; d < D4; ++d) {
+                q[r * D4 + d] = qr[d] * pc.scale;
+                acc[r * D4 + d] = vec4(0.0);
+            }
+            m[r] = kNone;
+            l[r] = 0.0;
+        }
+
+        // Groups of keys share one softmax rescale; keys past the window repeat its last one
+        // and are masked out.
+        [[dont_unroll]] for (int j0 = 0; j0 < span; j0 += GROUP) {
+            vec4 kg[GROUP * D4], vg[GROUP * D4];
+            [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
+                const uint row = point_at(key0 + min(j0 + int(jj), span - 1)) * stride;
+                vec4 kj[D4], vj[D4];
+                load_head(row + k_col, kj);
+                load_head(row + v_col, vj);
+                [[unroll]] for (uint d = 0u; d < D4; ++d) {
+                    kg[jj * D4 + d] = kj[d];
+                    vg[jj * D4 + d] = vj[d];
+                }
+            }
+            [[unroll]] for (uint r = 0u; r < ROWS; ++r) {
+                float s[GROUP];
+                float mt = m[r];
+                [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
+                    vec4 part = q[r * D4] * kg[jj * D4];
+                    [[unroll]] for (uint d = 1u; d < D4; ++d) part = fma(q[r * D4 + d], kg[jj * D4 + d], part);
+                    s[jj] = j0 + int(jj) < span ? (part.x + part.y) + (part.z + part.w) : kNone;
+                    mt = max(mt, s[jj]);
+                }
+                const float alpha = exp2(m[r] - mt);
+                m[r] = mt;
+                float p[GROUP];
+                float psum = 0.0;
+                [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
+                    p[jj] = exp2(s[jj] - mt);
+                    psum += p[jj];
+                }
+                l[r] = l[r] * alpha + psum;
+                [[unroll]] for (uint d = 0u; d < D4; ++d) {
+                    vec4 a = acc[r * D4 + d] * alpha;
+                    [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) a = fma(vec4(p[jj]), vg[jj * D4 + d], a);
+                    acc[r * D4 + d] = a;
+                }
+            }
+        }
+
+        [[unroll]] for (uint r = 0u; r < ROWS; ++r) {
+            const int at = qb.q0 + int(r * THREADS + t);
+            if (at < s0 || at >= s1) continue;
+            const uint row = point_at(qb.base + at) * (pc.channels / 4u) + qb.head * D4;
+            const float inv = 1.0 / l[r];
+            [[unroll]] for (uint d = 0u; d < D4; ++d) result[row + d] = acc[r * D4 + d] * inv;
+        }
+    }
+}

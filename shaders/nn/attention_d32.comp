@@ -1,0 +1,5 @@
+#version 450
+// Serialized window attention, head dimension 32, for GPUs (nn/ops/attention.cpp).
+#extension GL_GOOGLE_include_directive : require
+#define PG_ATTN_D 32
+#include "nn/attention_gpu.glsl"

@@ -1,0 +1,176 @@
+// One depth chunk of a GEMM, written for CPU Vulkan drivers (lavapipe):
+//     y[m, n0 : n0+NC] (+)= A[m, k0 : k0+KC] . W[n0 : n0+NC, k0 : k0+KC]^T
+// A is x or x gathered through a neighbour table (gemm_shared.glsl).
+//
+// Why it is shaped like this: llvmpipe runs invocations as 8-wide SIMD lanes. A memory access
+// whose address may differ between lanes is a scalar loop over the lanes (tens of instructions
+// per value), and inside any loop or branch every access is. Only an access at the top level
+// of the shader whose address comes from constants and push constants is one broadcast. So:
+// no loops (the host issues one dispatch per chunk; chunks accumulate in y), one lane per row
+// of A, the workgroup stages its weight chunk once in shared memory, and the multiply-adds
+// read it at constant offsets - a broadcast that LLVM folds into the multiply. Per-lane
+// traffic is then KC values of A and NC of y per KC*NC multiply-adds. GPUs use gemm_tiled.glsl.
+//
+// Defines: WG (rows per workgroup), KC (chunk depth, a multiple of 32), A_VEC (A, W and the
+// gathered rows are read 8 floats at a time: needs cin % 8 == 0 when dense, cin % 32 == 0
+// when gathered, K % 8 == 0), Y_VEC (y rows 8 floats at a time: needs N % 8 == 0), GELU
+// (optional: apply GELU before storing; the last chunk's variant. A flag would cost the GELU
+// on every chunk: llvmpipe runs both sides of a branch).
+#extension GL_EXT_control_flow_attributes : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#include "common/dispatch.glsl"
+#include "nn/gemm_shared.glsl"
+#if GELU
+#include "nn/erf.glsl"
+#endif
+
+#define NC PG_LANES_NC
+layout(local_size_x = WG) in;
+
+#if A_VEC
+layout(std430, binding = 0) readonly buffer XBuf { u64vec4 x8[]; };
+layout(std430, binding = 1) readonly buffer WBuf { u64vec4 w8[]; };
+#else
+layout(std430, binding = 0) readonly buffer XBuf { float x1[]; };
+layout(std430, binding = 1) readonly buffer WBuf { float w1[]; };
+#endif
+layout(std430, binding = 2) readonly buffer BiasBuf { float bias[]; };
+#if Y_VEC
+layout(std430, binding = 3) readonly buffer ResBuf { u64vec4 res8[]; };
+layout(std430, binding = 4) buffer YBuf { u64vec4 y8[]; };
+#else
+layout(std430, binding = 3) readonly buffer ResBuf { float res1[]; };
+layout(std430, binding = 4) buffer YBuf { float y1[]; };
+#endif
+layout(std430, binding = 5) readonly buffer NbrBuf { int nbr[]; };
+layout(push_constant) uniform PushBlock { GemmPush pc; };
+
+shared float ws[NC * KC];  // ws[c * KC + kk] = W[n0 + c, k0 + kk], zero outside W
+shared float bs[NC];
+
+// 8 floats packed in a u64vec4, low word first.
+void unpack8(u64vec4 v, out float f[8]) {
+    [[unroll]] for (uint j = 0u; j < 4u; ++j) {
+        uvec2 p = unpack32(v[j]);
+        f[2u * j] = uintBitsToFloat(p.x);
+        f[2u * j + 1u] = uintBitsToFloat(p.y);
+    }
+}
+
+void main() {
+    const uint lid = gl_LocalInvocationIndex;
+    const uint g = pg_group_index();
+    const uint m = (g / pc.col_tiles) * WG + lid;
+    const uint mr = min(m, pc.M - 1u);  // rows past M compute on a copy of the last row
+    const uint n0 = (g % pc.col_tiles) * NC;
+    const bool gather = (pc.flags & PG_GEMM_GATHER) != 0u;
+
+    // Stage W's chunk (zero past N and K) and the bias.
+#if A_VEC
+    const uint groups = NC * KC / 8u;
+    [[unroll]] for (uint r = 0u; r < (groups + WG - 1u) / WG; ++r) {
+        const uint i = r * WG + lid;
+        if (groups % WG == 0u || i < groups) {
+            const uint c = i / (KC / 8u), k = pc.k0 + 8u * (i % (KC / 8u));
+            const bool valid = n0 + c < pc.N && k < pc.K;
+            float f[8];
+            unpack8(w8[(min(n0 + c, pc.N - 1u) * pc.K + min(k, pc.K - 8u)) / 8u], f);
+            [[unroll]] for (uint j = 0u; j < 8u; ++j) ws[c * KC + k - pc.k0 + j] = valid ? f[j] : 0.0;
+        }
+    }
+#else
+    // Scalar paths are loops: every access is per lane anyway, and unrolled they only make the
+    // shader slow to compile.
+    [[dont_unroll]] for (uint r = 0u; r < (NC * KC + WG - 1u) / WG; ++r) {
+        const uint i = r * WG + lid;
+        if ((NC * KC) % WG == 0u || i < NC * KC) {
+            const uint c = i / KC, k = pc.k0 + i % KC;
+            const bool valid = n0 + c < pc.N && k < pc.K;
+            const float v = w1[min(n0 + c, pc.N - 1u) * pc.K + min(k, max(pc.K, 1u) - 1u)];
+            ws[i] = valid ? v : 0.0;
+        }
+    }
+#endif
+    if (lid < NC) {
+        const float b = bias[min(n0 + lid, pc.N - 1u)];
+        bs[lid] = (pc.flags & PG_GEMM_BIAS) != 0u && n0 + lid < pc.N ? b : 0.0;
+    }
+    barrier();
+
+    // This lane's row of A for the chunk, zero past K and for missing neighbours.
+    float a[KC];
+#if A_VEC
+    [[unroll]] for (uint q = 0u; q < KC / 32u; ++q) {
+        // A 32-column segment lies in one tap: cin % 32 == 0 when gathered.
+        const uint k = pc.k0 + 32u * q;
+        const uint t = min(k / pc.cin, pc.taps - 1u), c = k % pc.cin;
+        int j = int(mr);
+        if (gather) j = nbr[mr * pc.taps + t];
+        const bool valid = k < pc.K && j >= 0;
+        [[unroll]] for (uint r = 0u; r < 4u; ++r) {
+            const uint cr = min(c + 8u * r, pc.cin - 8u);
+            float f[8];
+            unpack8(x8[(uint(max(j, 0)) * pc.cin + cr) / 8u], f);
+            [[unroll]] for (uint i = 0u; i < 8u; ++i) a[32u * q + 8u * r + i] = valid ? f[i] : 0.0;
+        }
+    }
+#else
+    [[dont_unroll]] for (uint kk = 0u; kk < KC; ++kk) {
+        const uint k = pc.k0 + kk;
+        const uint t = min(k / max(pc.cin, 1u), pc.taps - 1u), c = min(k % max(pc.cin, 1u), max(pc.cin, 1u) - 1u);
+        int j = int(mr);
+        if (gather) j = nbr[mr * pc.taps + t];
+        const bool valid = k < pc.K && j >= 0;
+        const float v = x1[uint(max(j, 0)) * pc.cin + c];
+        a[kk] = valid ? v : 0.0;
+    }
+#endif
+
+    // Start from the bias (read here, outside any branch, where it is a broadcast), then the
+    // residual on the first chunk or the running sum in y on later ones.
+    float acc[NC];
+    [[unroll]] for (uint c = 0u; c < NC; ++c) acc[c] = bs[c];
+    // (Branches do not skip work in llvmpipe, but an access in one that no lane takes is cheap.)
+    if ((pc.flags & PG_GEMM_FIRST) == 0u) {
+#if Y_VEC
+        [[unroll]] for (uint i = 0u; i < NC / 8u; ++i) {
+            float f[8];
+            unpack8(y8[(mr * pc.N + min(n0 + 8u * i, pc.N - 8u)) / 8u], f);
+            [[unroll]] for (uint j = 0u; j < 8u; ++j) acc[8u * i + j] = f[j];
+        }
+#else
+        [[unroll]] for (uint c = 0u; c < NC; ++c) acc[c] = y1[mr * pc.N + min(n0 + c, pc.N - 1u)];
+#endif
+    } else if ((pc.flags & PG_GEMM_RESIDUAL) != 0u) {
+#if Y_VEC
+        [[unroll]] for (uint i = 0u; i < NC / 8u; ++i) {
+            float f[8];
+            unpack8(res8[(mr * pc.N + min(n0 + 8u * i, pc.N - 8u)) / 8u], f);
+            [[unroll]] for (uint j = 0u; j < 8u; ++j) acc[8u * i + j] += f[j];
+        }
+#else
+        [[unroll]] for (uint c = 0u; c < NC; ++c) acc[c] += res1[mr * pc.N + min(n0 + c, pc.N - 1u)];
+#endif
+    }
+
+    [[unroll]] for (uint kk = 0u; kk < KC; ++kk)
+        [[unroll]] for (uint c = 0u; c < NC; ++c) acc[c] += a[kk] * ws[c * KC + kk];
+
+#if GELU
+    [[unroll]] for (uint c = 0u; c < NC; ++c) acc[c] = pg_gelu(acc[c]);
+#endif
+    if (m < pc.M) {
+#if Y_VEC
+        [[unroll]] for (uint i = 0u; i < NC / 8u; ++i)
+            if (n0 + 8u * i < pc.N) {
+                u64vec4 v;
+                [[unroll]] for (uint j = 0u; j < 4u; ++j)
+                    v[j] = pack64(uvec2(floatBitsToUint(acc[8u * i + 2u * j]), floatBitsToUint(acc[8u * i + 2u * j + 1u])));
+                y8[(m * pc.N + n0) / 8u + i] = v;
+            }
+#else
+        [[unroll]] for (uint c = 0u; c < NC; ++c)
+            if (n0 + c < pc.N) y1[m * pc.N + n0 + c] = acc[c];
+#endif
+    }
+}

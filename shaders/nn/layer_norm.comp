@@ -1,0 +1,88 @@
+#version 450
+// LayerNorm over the c channels of each row, plus an optional residual: y = res + LN(x).
+// Two passes in f32 (mean, then the mean squared deviation), eps inside the square root,
+// biased variance. The sums run over x - x[row, 0], exact for values near each other, so rows
+// far from zero lose no digits to the mean. One invocation per row; rows move 8 channels at a
+// time (as u64vec4) when c % 8 == 0.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#include "common/dispatch.glsl"
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer X8 { u64vec4 x8[]; };
+layout(std430, binding = 1) readonly buffer X1 { float x1[]; };
+layout(std430, binding = 2) readonly buffer G8 { u64vec4 g8[]; };
+layout(std430, binding = 3) readonly buffer G1 { float g1[]; };
+layout(std430, binding = 4) readonly buffer B8 { u64vec4 b8[]; };
+layout(std430, binding = 5) readonly buffer B1 { float b1[]; };
+layout(std430, binding = 6) readonly buffer R8 { u64vec4 r8[]; };
+layout(std430, binding = 7) readonly buffer R1 { float r1[]; };
+layout(std430, binding = 8) writeonly buffer Y8 { u64vec4 y8[]; };
+layout(std430, binding = 9) writeonly buffer Y1 { float y1[]; };
+layout(push_constant) uniform PushBlock { uint rows, c, wide, residual; float eps; } pc;
+
+// 8 floats as two vec4s, low word first.
+void unpack8(u64vec4 v, out vec4 lo, out vec4 hi) {
+    lo = vec4(uintBitsToFloat(unpack32(v.x)), uintBitsToFloat(unpack32(v.y)));
+    hi = vec4(uintBitsToFloat(unpack32(v.z)), uintBitsToFloat(unpack32(v.w)));
+}
+u64vec4 pack8(vec4 lo, vec4 hi) {
+    return u64vec4(pack64(floatBitsToUint(lo.xy)), pack64(floatBitsToUint(lo.zw)), pack64(floatBitsToUint(hi.xy)),
+                   pack64(floatBitsToUint(hi.zw)));
+}
+
+void main() {
+    const uint r = pg_global_index();
+    if (r >= pc.rows) return;
+    // Wide part [0, 8*n8) and scalar part [8*n8, c): one of them is empty.
+    const uint n8 = pc.wide != 0u ? pc.c / 8u : 0u;
+    const uint base8 = r * n8, base1 = r * pc.c;
+    const bool residual = pc.residual != 0u;
+
+    const float shift = x1[base1];
+    vec4 s4 = vec4(0.0);
+    float s1 = 0.0;
+    for (uint i = 0u; i < n8; ++i) {
+        vec4 lo, hi;
+        unpack8(x8[base8 + i], lo, hi);
+        s4 += (lo - shift) + (hi - shift);
+    }
+    for (uint i = 8u * n8; i < pc.c; ++i) s1 += x1[base1 + i] - shift;
+    const float mean = ((s4.x + s4.y) + (s4.z + s4.w) + s1) / float(pc.c);  // of x - shift
+
+    vec4 q4 = vec4(0.0);
+    float q1 = 0.0;
+    for (uint i = 0u; i < n8; ++i) {
+        vec4 lo, hi;
+        unpack8(x8[base8 + i], lo, hi);
+        lo = (lo - shift) - mean;
+        hi = (hi - shift) - mean;
+        q4 += lo * lo + hi * hi;
+    }
+    for (uint i = 8u * n8; i < pc.c; ++i) {
+        const float d = (x1[base1 + i] - shift) - mean;
+        q1 += d * d;
+    }
+    const float var = ((q4.x + q4.y) + (q4.z + q4.w) + q1) / float(pc.c);
+    const float inv = 1.0 / sqrt(var + pc.eps);
+
+    for (uint i = 0u; i < n8; ++i) {
+        vec4 lo, hi, glo, ghi, blo, bhi;
+        unpack8(x8[base8 + i], lo, hi);
+        unpack8(g8[i], glo, ghi);
+        unpack8(b8[i], blo, bhi);
+        lo = ((lo - shift) - mean) * inv * glo + blo;
+        hi = ((hi - shift) - mean) * inv * ghi + bhi;
+        if (residual) {
+            vec4 rlo, rhi;
+            unpack8(r8[base8 + i], rlo, rhi);
+            lo += rlo;
+            hi += rhi;
+        }
+        y8[base8 + i] = pack8(lo, hi);
+    }
+    for (uint i = 8u * n8; i < pc.c; ++i) {
+        float v = ((x1[base1 + i] - shift) - mean) * inv * g1[i] + b1[i];
+        if (residual) v += r1[base1 + i];
+        y1[base1 + i] = v;
+    }
+}
