@@ -42,21 +42,26 @@ Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, con
     Tensor out = pool.empty({n, channels}, DType::F32);
     if (n == 0) return out;
     const int64_t clouds = offsets.dim(0) - 1;
+    const int d = int(head_dim);
+    // CPU drivers get the variant that gives each invocation many queries (see the config).
+    const bool cpu = pool.context().info().type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    const int64_t block = cpu ? PG_ATTN_CPU_THREADS * PG_ATTN_CPU_ROWS(d) : PG_ATTN_GPU_THREADS * PG_ATTN_GPU_ROWS;
     gpu::AttentionPush push{};
     push.rows = uint32_t(n);
     push.clouds = uint32_t(clouds);
     push.heads = uint32_t(heads);
     push.channels = uint32_t(channels);
     push.window = uint32_t(patch);
-    // CPU drivers get the variant that gives each invocation many queries (see the config).
-    const bool cpu = pool.context().info().type == VK_PHYSICAL_DEVICE_TYPE_CPU;
-    const int d = int(head_dim);
-    const int64_t block = cpu ? PG_ATTN_CPU_THREADS * PG_ATTN_CPU_ROWS(d) : PG_ATTN_GPU_THREADS * PG_ATTN_GPU_ROWS;
-    // Blocks are numbered floor(offsets[b] / block) + b + local block (see the shader).
+    // Blocks are numbered floor(offsets[b] / block) + b + local block (see attention_common).
     push.chunks = uint32_t(n / block + clouds);
-    push.scale = float(double(scale) * 1.4426950408889634);  // exp2 in the kernel
+    push.scale = float(double(scale) * 1.4426950408889634);  // exp2 in the kernels
+    push.head_dim = uint32_t(d);
+
+    Tensor kv = pool.empty({heads, n, 2 * head_dim}, DType::F32);
+    cmd.dispatch("nn/attention_gather", {qkv, order, kv}, push,
+                 (uint64_t(kv.numel() / 4) + PG_ATTN_GATHER_THREADS - 1) / PG_ATTN_GATHER_THREADS);
     const std::string shader = std::string(cpu ? "nn/attention_cpu_d" : "nn/attention_d") + std::to_string(d);
-    cmd.dispatch(shader, {qkv, order, offsets, out}, push, uint64_t(push.chunks) * uint64_t(heads));
+    cmd.dispatch(shader, {qkv, order, offsets, out, kv}, push, uint64_t(push.chunks) * uint64_t(heads));
     return out;
 }
 

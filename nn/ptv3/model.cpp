@@ -112,9 +112,10 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
         int64_t cin, cout;
     };
     std::vector<ConvUse> convs;
-    auto linear = [&](const Tensor& a, const Tensor& w, const Tensor& b, const Tensor& residual = {}) {
+    auto linear = [&](const Tensor& a, const Tensor& w, const Tensor& b, const Tensor& residual = {},
+                      ops::Activation act = ops::Activation::None) {
         out.flops["linear"] += 2.0 * double(a.dim(0)) * double(w.dim(0)) * double(w.dim(1));
-        return ops::linear(cmd, pool_, a, w, b, residual);
+        return ops::linear(cmd, pool_, a, w, b, residual, act);
     };
     auto conv = [&](const Tensor& a, const Tensor& nbr, const Tensor& w, const Tensor& b) {
         convs.push_back({nbr, a.dim(1), w.dim(0)});
@@ -203,11 +204,14 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
         h = linear(h, W[p + ".cpe.1.weight"], W[p + ".cpe.1.bias"]);
         emit(p + ".cpe.1/feat", h);
         cmd.begin_pass("norm");
-        h = ops::layer_norm(cmd, pool_, h, W[p + ".cpe.2.weight"], W[p + ".cpe.2.bias"], kLayerNormEps);
-        emit(p + ".cpe.2/feat", h);
-        emit(p + ".cpe/feat", h);
-        cmd.begin_pass("elementwise");
-        x = ops::add(cmd, pool_, x, h);
+        if (trace) {
+            h = ops::layer_norm(cmd, pool_, h, W[p + ".cpe.2.weight"], W[p + ".cpe.2.bias"], kLayerNormEps);
+            emit(p + ".cpe.2/feat", h);
+            emit(p + ".cpe/feat", h);
+            x = ops::add(cmd, pool_, x, h);
+        } else {
+            x = ops::layer_norm(cmd, pool_, h, W[p + ".cpe.2.weight"], W[p + ".cpe.2.bias"], kLayerNormEps, x);
+        }
         cmd.begin_pass("norm");
         h = ops::layer_norm(cmd, pool_, x, W[p + ".norm1.0.weight"], W[p + ".norm1.0.bias"], kLayerNormEps);
         emit(p + ".norm1/feat", h);
@@ -233,10 +237,7 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
         h = ops::layer_norm(cmd, pool_, x, W[p + ".norm2.0.weight"], W[p + ".norm2.0.bias"], kLayerNormEps);
         emit(p + ".norm2/feat", h);
         cmd.begin_pass("linear");
-        h = linear(h, W[p + ".mlp.0.fc1.weight"], W[p + ".mlp.0.fc1.bias"]);
-        cmd.begin_pass("elementwise");
-        h = ops::gelu(cmd, pool_, h);
-        cmd.begin_pass("linear");
+        h = linear(h, W[p + ".mlp.0.fc1.weight"], W[p + ".mlp.0.fc1.bias"], Tensor{}, ops::Activation::Gelu);
         if (trace) {
             h = linear(h, W[p + ".mlp.0.fc2.weight"], W[p + ".mlp.0.fc2.bias"]);
             emit(p + ".mlp/feat", h);

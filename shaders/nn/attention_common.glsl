@@ -1,5 +1,6 @@
-// Shared by the attention kernels: bindings other than qkv, and which block of queries a
-// workgroup owns. The including kernel defines BLOCK (queries per workgroup) first.
+// Shared by the attention kernels: bindings other than qkv and the gathered keys/values, and
+// which block of queries a workgroup owns. The including kernel defines BLOCK (queries per
+// workgroup) first.
 #include "common/dispatch.glsl"
 #include "nn/attention_config.glsl"
 

@@ -20,6 +20,8 @@ using uint = uint32_t;
 // keep the unrolled code (and the driver's compile time) the same for every head size.
 #define PG_ATTN_CPU_THREADS 8
 #define PG_ATTN_CPU_ROWS(d) (256 / (d))
+// nn/attention_gather: vec4s per invocation.
+#define PG_ATTN_GATHER_THREADS 256
 // Keys per shared-memory tile (K and V: 2 * tile * head_dim floats, 16 KiB at head_dim 64),
 // consumed in groups of PG_ATTN_GROUP keys with one softmax rescale per group.
 #define PG_ATTN_TILE 32
@@ -33,7 +35,7 @@ struct AttentionPush {
     uint window;    // K: the patch size, keys per window
     uint chunks;    // query blocks per head (workgroups = chunks * heads)
     float scale;    // softmax scale times log2(e): the kernel uses exp2
-    uint pad;
+    uint head_dim;  // D = C / H
 };
 
 #ifdef __cplusplus

@@ -1,8 +1,9 @@
 // Serialized window attention (PTv3, no RPE) for CPU drivers such as lavapipe, where every
 // memory load is a loop over the SIMD lanes, even when all lanes read the same address. So
 // there is no shared-memory staging (a second round of such loops): each invocation reads the
-// window's keys and values straight from qkv, 64 bits per component (twice the floats per
-// lane-loop iteration of a vec4), and every loaded key and value serves its ROWS queries.
+// window's keys and values straight from the gathered kv buffer, 64 bits per component (twice
+// the floats per lane-loop iteration of a vec4), and every loaded key and value serves its
+// ROWS queries.
 // The including shader defines PG_ATTN_D (head dimension, a multiple of 8).
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -16,16 +17,14 @@
 #define GROUP PG_ATTN_GROUP
 
 layout(local_size_x = THREADS) in;
-layout(std430, binding = 0) readonly buffer Qkv { u64vec4 qkv[]; };  // [N, 3C], 8 floats each
+// 8 floats per element: fewer, wider components per lane-loop iteration.
+layout(std430, binding = 0) readonly buffer Qkv { u64vec4 qkv[]; };  // [N, 3C]
+layout(std430, binding = 4) readonly buffer Kv { u64vec4 kv[]; };  // [H, N, 2D] (attention_gather)
 #include "nn/attention_common.glsl"
 
-// D floats starting at element `at` of qkv, as D4 vec4s.
-void load_head(uint at, out vec4 v[D4]) {
-    [[unroll]] for (uint i = 0u; i < D8; ++i) {
-        const u64vec4 x = qkv[at + i];
-        v[2u * i] = uintBitsToFloat(uvec4(unpackUint2x32(x.x), unpackUint2x32(x.y)));
-        v[2u * i + 1u] = uintBitsToFloat(uvec4(unpackUint2x32(x.z), unpackUint2x32(x.w)));
-    }
+void unpack8(u64vec4 x, out vec4 lo, out vec4 hi) {
+    lo = uintBitsToFloat(uvec4(unpackUint2x32(x.x), unpackUint2x32(x.y)));
+    hi = uintBitsToFloat(uvec4(unpackUint2x32(x.z), unpackUint2x32(x.w)));
 }
 
 void main() {
@@ -33,10 +32,8 @@ void main() {
     if (!query_block(qb)) return;
     const int span = min(int(pc.window), qb.n);
     const uint t = gl_LocalInvocationIndex;
-    const uint stride = 3u * pc.channels / 8u;
     const uint q_col = qb.head * D8;
-    const uint k_col = (pc.channels + qb.head * PG_ATTN_D) / 8u;
-    const uint v_col = (2u * pc.channels + qb.head * PG_ATTN_D) / 8u;
+    const uint kv_head = qb.head * pc.rows;
 
     for (int w = qb.q0 / int(pc.window); w * int(pc.window) < qb.q1; ++w) {
         const int s0 = max(qb.q0, w * int(pc.window)), s1 = min(qb.q1, (w + 1) * int(pc.window));
@@ -47,12 +44,13 @@ void main() {
         [[unroll]] for (uint r = 0u; r < ROWS; ++r) {
             // Lanes past the window compute a copy of its first query and write nothing.
             const int at = clamp(qb.q0 + int(r * THREADS + t), s0, s1 - 1);
-            vec4 qr[D4];
-            load_head(point_at(qb.base + at) * stride + q_col, qr);
-            [[unroll]] for (uint d = 0u; d < D4; ++d) {
-                q[r * D4 + d] = qr[d] * pc.scale;
-                acc[r * D4 + d] = vec4(0.0);
+            const uint row = point_at(qb.base + at) * (3u * pc.channels / 8u) + q_col;
+            [[unroll]] for (uint i = 0u; i < D8; ++i) {
+                unpack8(qkv[row + i], q[r * D4 + 2u * i], q[r * D4 + 2u * i + 1u]);
+                q[r * D4 + 2u * i] *= pc.scale;
+                q[r * D4 + 2u * i + 1u] *= pc.scale;
             }
+            [[unroll]] for (uint d = 0u; d < D4; ++d) acc[r * D4 + d] = vec4(0.0);
             m[r] = kNone;
             l[r] = 0.0;
         }
@@ -62,13 +60,10 @@ void main() {
         [[dont_unroll]] for (int j0 = 0; j0 < span; j0 += GROUP) {
             vec4 kg[GROUP * D4], vg[GROUP * D4];
             [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
-                const uint row = point_at(key0 + min(j0 + int(jj), span - 1)) * stride;
-                vec4 kj[D4], vj[D4];
-                load_head(row + k_col, kj);
-                load_head(row + v_col, vj);
-                [[unroll]] for (uint d = 0u; d < D4; ++d) {
-                    kg[jj * D4 + d] = kj[d];
-                    vg[jj * D4 + d] = vj[d];
+                const uint at = (kv_head + uint(key0 + min(j0 + int(jj), span - 1))) * (2u * D8);
+                [[unroll]] for (uint i = 0u; i < D8; ++i) {
+                    unpack8(kv[at + i], kg[jj * D4 + 2u * i], kg[jj * D4 + 2u * i + 1u]);
+                    unpack8(kv[at + D8 + i], vg[jj * D4 + 2u * i], vg[jj * D4 + 2u * i + 1u]);
                 }
             }
             [[unroll]] for (uint r = 0u; r < ROWS; ++r) {

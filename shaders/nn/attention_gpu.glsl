@@ -1,7 +1,7 @@
 // Serialized window attention (PTv3, no RPE), flash style, for GPUs: a workgroup takes a block
 // of serialized positions of one cloud and one head; each invocation keeps its queries and
-// their running softmax state in registers while the window's keys and values stream through
-// shared memory in tiles. The including shader defines PG_ATTN_D (head dimension).
+// their running softmax state in registers while the window's keys and values (contiguous in
+// the gathered kv buffer) stream through shared memory in tiles. The including shader defines PG_ATTN_D (head dimension).
 #extension GL_EXT_control_flow_attributes : require
 #include "nn/attention_config.glsl"
 
@@ -14,6 +14,7 @@
 
 layout(local_size_x = THREADS) in;
 layout(std430, binding = 0) readonly buffer Qkv { vec4 qkv[]; };  // [N, 3C]: q | k | v
+layout(std430, binding = 4) readonly buffer Kv { vec4 kv[]; };  // [H, N, 2D] (attention_gather)
 #include "nn/attention_common.glsl"
 
 shared vec4 tile_k[TILE * D4];
@@ -26,8 +27,7 @@ void main() {
     const uint t = gl_LocalInvocationIndex;
     const uint stride = 3u * pc.channels / 4u;
     const uint q_col = qb.head * D4;
-    const uint k_col = (pc.channels + qb.head * PG_ATTN_D) / 4u;
-    const uint v_col = (2u * pc.channels + qb.head * PG_ATTN_D) / 4u;
+    const uint kv_head = qb.head * pc.rows;
 
     for (int w = qb.q0 / int(pc.window); w * int(pc.window) < qb.q1; ++w) {
         const int s0 = max(qb.q0, w * int(pc.window)), s1 = min(qb.q1, (w + 1) * int(pc.window));
@@ -52,14 +52,14 @@ void main() {
             barrier();  // the previous tile is consumed
             for (uint e = t; e < TILE * D4; e += THREADS) {
                 const uint j = e / D4, d = e % D4;
-                vec4 kv = vec4(0.0), vv = vec4(0.0);
+                vec4 kj = vec4(0.0), vj = vec4(0.0);
                 if (int(j) < kn) {
-                    const uint row = point_at(key0 + k0 + int(j)) * stride;
-                    kv = qkv[row + k_col + d];
-                    vv = qkv[row + v_col + d];
+                    const uint at = (kv_head + uint(key0 + k0) + j) * (2u * D4) + d;
+                    kj = kv[at];
+                    vj = kv[at + D4];
                 }
-                tile_k[e] = kv;
-                tile_v[e] = vv;
+                tile_k[e] = kj;
+                tile_v[e] = vj;
             }
             barrier();
 
