@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "app/cli/commands.h"
@@ -67,17 +68,16 @@ std::vector<int64_t> parse_offsets(const std::string& s) {
 void run_infer(const InferArgs& a) {
     if (std::filesystem::exists(a.out) && std::filesystem::equivalent(a.out, a.input))
         throw data::InputError("--out", "would overwrite the input file");
-    vk::ContextOptions co;
-    co.device = a.device.device;
-    vk::Context ctx(co);
-    auto pool = nn::Pool::create(ctx);
-    nn::Ptv3Weights weights;
+    // Everything that can be wrong with the input is checked before the device starts.
+    nn::Ptv3Config c;
+    std::map<std::string, std::vector<float>> values;
     try {
-        weights = nn::Ptv3Weights::load(*pool, a.model);
+        const auto file = nn::SafeTensors::load(a.model);
+        c = nn::Ptv3Weights::config_of(file);
+        values = nn::Ptv3Weights::host_values(file);
     } catch (const nn::FormatError& e) {
         throw data::InputError("--model", e.what());
     }
-    const auto& c = weights.config();
     const std::vector<char> raw = data::read_file(a.input);
     const size_t row = sizeof(float) * size_t(3 + c.in_channels);
     if (raw.empty() || raw.size() % row)
@@ -96,13 +96,23 @@ void run_infer(const InferArgs& a) {
         if (!std::isfinite(v)) throw data::InputError(a.input, "has a non-finite feature");
     in.offsets = parse_offsets(a.offsets);
     in.perms = parse_perms(a.perm);
-    nn::Ptv3 model(*pool, std::move(weights));
-    nn::Ptv3Output out;
     try {
-        out = model.forward(in);
+        nn::Ptv3::validate(c, in);
     } catch (const std::invalid_argument& e) {
-        throw data::InputError(a.perm.empty() && a.offsets.empty() ? a.input : "--perm/--offsets", e.what());
+        throw data::InputError(!a.perm.empty() && std::string(e.what()).find("permutation") != std::string::npos
+                                   ? "--perm"
+                                   : !a.offsets.empty() && std::string(e.what()).find("offset") != std::string::npos
+                                         ? "--offsets"
+                                         : a.input,
+                               e.what());
     }
+
+    vk::ContextOptions co;
+    co.device = a.device.device;
+    vk::Context ctx(co);
+    auto pool = nn::Pool::create(ctx);
+    nn::Ptv3 model(*pool, nn::Ptv3Weights::from_host(*pool, c, values, a.model));
+    const nn::Ptv3Output out = model.forward(in);
     data::write_atomically(a.out, [&](std::ostream& os) {
         os.write(reinterpret_cast<const char*>(out.logits.data()), std::streamsize(out.logits.size() * sizeof(float)));
     });

@@ -69,18 +69,14 @@ std::vector<int32_t> Ptv3::grid_coords(const std::vector<float>& coord, double g
     return grid;
 }
 
-Ptv3::Ptv3(Pool& pool, Ptv3Weights weights) : pool_(pool), weights_(std::move(weights)) {}
-
-Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
-    const Ptv3Config& c = config();
-    const Ptv3Weights& W = weights_;
+void Ptv3::validate(const Ptv3Config& c, const Ptv3Input& in) {
     const int64_t n = int64_t(in.size());
     if (n == 0 || in.coord.size() != size_t(3 * n)) throw std::invalid_argument("PTv3 input: coord must be [n, 3], n > 0");
     if (in.feat.size() != size_t(n * c.in_channels))
         throw std::invalid_argument("PTv3 input: feat must be [n, " + std::to_string(c.in_channels) + "]");
     for (float v : in.coord)
         if (!std::isfinite(v)) throw std::invalid_argument("PTv3 input: coordinates must be finite");
-    std::vector<int64_t> ends = in.offsets.empty() ? std::vector<int64_t>{n} : in.offsets;
+    const std::vector<int64_t> ends = in.offsets.empty() ? std::vector<int64_t>{n} : in.offsets;
     for (size_t b = 0; b < ends.size(); ++b)
         if (ends[b] <= (b ? ends[b - 1] : 0) || ends[b] > n)
             throw std::invalid_argument("PTv3 input: offsets must increase strictly (no empty cloud)");
@@ -92,10 +88,21 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
     for (const auto& p : in.perms) {
         std::vector<int> s = p;
         std::sort(s.begin(), s.end());
-        for (size_t k = 0; k < s.size(); ++k)
-            if (s.size() != kinds || s[k] != int(k))
-                throw std::invalid_argument("PTv3 input: each permutation must reorder 0.." + std::to_string(kinds - 1));
+        bool ok = s.size() == kinds;
+        for (size_t k = 0; ok && k < s.size(); ++k) ok = s[k] == int(k);
+        if (!ok) throw std::invalid_argument("PTv3 input: each permutation must reorder 0.." + std::to_string(kinds - 1));
     }
+}
+
+Ptv3::Ptv3(Pool& pool, Ptv3Weights weights) : pool_(pool), weights_(std::move(weights)) {}
+
+Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
+    const Ptv3Config& c = config();
+    const Ptv3Weights& W = weights_;
+    const int64_t n = int64_t(in.size());
+    validate(c, in);
+    const size_t kinds = c.order.size();
+    std::vector<int64_t> ends = in.offsets.empty() ? std::vector<int64_t>{n} : in.offsets;
 
     vk::Context& ctx = pool_.context();
     vk::CommandList cmd(ctx);

@@ -56,6 +56,8 @@ public:
     // After a forward: the input point that represents each level-0 voxel.
     const std::vector<int32_t>& voxel_points() const { return voxel_points_; }
 
+    // Throws std::invalid_argument naming what is wrong with an input for this config.
+    static void validate(const Ptv3Config& config, const Ptv3Input& input);
     // The release's grid: trunc((coord - min over the batch) / grid_size), in float32.
     static std::vector<int32_t> grid_coords(const std::vector<float>& coord, double grid_size);
 

@@ -85,19 +85,26 @@ Ptv3Weights Ptv3Weights::load(Pool& pool, const std::filesystem::path& path) {
     return from_file(pool, SafeTensors::load(path));
 }
 
-Ptv3Weights Ptv3Weights::from_file(Pool& pool, const SafeTensors& file) {
+Ptv3Config Ptv3Weights::config_of(const SafeTensors& file) {
     const std::string where = file.path().string();
     auto meta = file.metadata().find("config");
     if (meta == file.metadata().end())
         throw FormatError(where, "no PTv3 config in __metadata__ (convert PyTorch checkpoints with "
                                  "tools/convert_checkpoint.py)");
-    Ptv3Weights w;
-    w.source_ = where;
     try {
-        w.config_ = Ptv3Config::from_json(nlohmann::json::parse(meta->second));
+        return Ptv3Config::from_json(nlohmann::json::parse(meta->second));
     } catch (const std::exception& e) {
         throw FormatError(where, e.what());
     }
+}
+
+Ptv3Weights Ptv3Weights::from_file(Pool& pool, const SafeTensors& file) {
+    return from_host(pool, config_of(file), host_values(file), file.path().string());
+}
+
+std::map<std::string, std::vector<float>> Ptv3Weights::host_values(const SafeTensors& file) {
+    const std::string where = file.path().string();
+    const Ptv3Config config = config_of(file);
     std::map<std::string, std::string> by_canonical;
     for (const auto& [name, info] : file.tensors()) {
         std::string c = canonical_name(name);
@@ -106,7 +113,7 @@ Ptv3Weights Ptv3Weights::from_file(Pool& pool, const SafeTensors& file) {
             throw FormatError(where, "tensors '" + by_canonical[c] + "' and '" + name + "' name the same parameter");
     }
     std::map<std::string, std::vector<float>> values;
-    for (const auto& [name, shape] : expected(w.config_)) {
+    for (const auto& [name, shape] : expected(config)) {
         auto it = by_canonical.find(name);
         if (it == by_canonical.end()) {
             if (name == "head.weight" || name == "head.bias")
@@ -122,7 +129,7 @@ Ptv3Weights Ptv3Weights::from_file(Pool& pool, const SafeTensors& file) {
     }
     if (!by_canonical.empty())
         throw FormatError(where, "unexpected tensor '" + by_canonical.begin()->second + "' for this config");
-    return from_host(pool, w.config_, values, where);
+    return values;
 }
 
 Ptv3Weights Ptv3Weights::from_host(Pool& pool, const Ptv3Config& config,

@@ -21,6 +21,10 @@ public:
     // and uploads them. Errors name the file and the tensor.
     static Ptv3Weights load(Pool& pool, const std::filesystem::path& path);
     static Ptv3Weights from_file(Pool& pool, const SafeTensors& file);
+    // The config in a file's __metadata__ (FormatError naming the file if absent or invalid).
+    static Ptv3Config config_of(const SafeTensors& file);
+    // Every tensor the file's config needs, checked and converted to float, under canonical names.
+    static std::map<std::string, std::vector<float>> host_values(const SafeTensors& file);
     // From host values under canonical names (all of expected(config), nothing else).
     static Ptv3Weights from_host(Pool& pool, const Ptv3Config& config,
                                  const std::map<std::string, std::vector<float>>& values, std::string source);

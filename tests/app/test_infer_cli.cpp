@@ -1,0 +1,85 @@
+// `pointgauss infer`: logits of a committed PTv3 fixture through the CLI, and its errors.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "tests/app/cli_run.h"
+#include "tests/test_paths.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<float> read_floats(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::vector<char> raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<float> v(raw.size() / 4);
+    std::memcpy(v.data(), raw.data(), v.size() * 4);
+    return v;
+}
+
+double max_abs_diff(const std::vector<float>& a, const std::vector<float>& b) {
+    if (a.size() != b.size()) return INFINITY;
+    double d = 0;
+    for (size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(double(a[i]) - double(b[i])));
+    return d;
+}
+
+}  // namespace
+
+TEST_CASE("infer writes the fixture's logits in input order, with offsets and order permutations") {
+    const auto fx = pg::test::fixtures() / "ptv3" / "small";
+    const auto out = pg::test::scratch("infer") / "logits.bin";
+    fs::remove(out);
+    const std::string base = "infer --model " + (fx / "weights.safetensors").string() + " --input " +
+                             (fx / "input.bin").string() + " --offsets 700,1000 --out " + out.string();
+    auto r = pg::test::run_cli(base);
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK(max_abs_diff(read_floats(out), read_floats(fx / "logits.bin")) < 1e-4);
+    r = pg::test::run_cli(base + " --perm 3,1,0,2/1,0,3,2/2,3,1,0/0,2,3,1/3,2,1,0");
+    REQUIRE(r.code == 0);
+    CHECK(max_abs_diff(read_floats(out), read_floats(fx / "perm_logits.bin")) < 1e-4);
+}
+
+TEST_CASE("infer rejects bad models, inputs and arguments with one line naming them, and writes nothing") {
+    const auto fx = pg::test::fixtures() / "ptv3" / "small";
+    const auto dir = pg::test::scratch("infer-errors");
+    const auto out = dir / "logits.bin";
+    const std::string model = (fx / "weights.safetensors").string(), input = (fx / "input.bin").string();
+    {
+        std::ofstream(dir / "odd.bin", std::ios::binary) << std::string(21, '\0');
+        std::ofstream(dir / "garbage.safetensors", std::ios::binary) << "not a model file at all";
+        std::ofstream(dir / "nan.bin", std::ios::binary).write(std::string(20, '\xff').data(), 20);
+    }
+    struct Case {
+        std::string args, must_name;
+    };
+    const std::vector<Case> cases = {
+        {"--model /no/such.safetensors --input " + input, "/no/such.safetensors"},
+        {"--model " + (dir / "garbage.safetensors").string() + " --input " + input, "garbage.safetensors"},
+        {"--model " + model + " --input /no/such.bin", "/no/such.bin"},
+        {"--model " + model + " --input " + (dir / "odd.bin").string(), "not a whole number of points"},
+        {"--model " + model + " --input " + (dir / "nan.bin").string(), "non-finite"},
+        {"--model " + model + " --input " + input + " --perm 0,1,2,3", "one order permutation per level"},
+        {"--model " + model + " --input " + input + " --perm a,b", "--perm"},
+        {"--model " + model + " --input " + input + " --offsets 700,999", "last offset"},
+        {"--model " + model + " --input " + input + " --offsets 700,x", "--offsets"},
+    };
+    for (const auto& c : cases) {
+        fs::remove(out);
+        auto r = pg::test::run_cli("infer " + c.args + " --out " + out.string());
+        INFO(c.args << "\n" << r.out);
+        CHECK(r.code != 0);
+        CHECK(r.out.find("error: ") != std::string::npos);
+        CHECK(r.out.find(c.must_name) != std::string::npos);
+        CHECK(std::count(r.out.begin(), r.out.end(), '\n') == 1);
+        CHECK_FALSE(fs::exists(out));
+    }
+    auto r = pg::test::run_cli("infer --model " + model + " --input " + input + " --out " + input);
+    CHECK(r.code != 0);
+    CHECK(r.out.find("overwrite the input") != std::string::npos);
+}
