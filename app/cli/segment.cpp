@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
+#include "app/cli/ptv3_decoder.h"
 #include "app/cli/progress.h"
 #include "dataset/atomic_file.h"
 #include "dataset/camera_io.h"
@@ -52,11 +53,12 @@ std::string safe_file_name(std::string name) {
 void run_segment(const SegmentArgs& a) {
     auto total_start = std::chrono::steady_clock::now();
     if (a.model.empty())
-        throw data::InputError("--model", "no trained model is shipped yet; give --model ground-truth on a labelled "
-                                          "scene (an evaluation tool that reads the scene's own labels)");
-    if (a.model != "ground-truth")
-        throw data::InputError("--model", "'" + a.model + "': only the ground-truth decoder is available until the "
-                                                          "PTv3 decoder lands");
+        throw data::InputError("--model", "no trained model is shipped yet; give a PTv3 model file, or "
+                                          "ground-truth on a labelled scene (an evaluation tool that reads the "
+                                          "scene's own labels)");
+    const bool ground_truth = a.model == "ground-truth";
+    if (!ground_truth && !fs::exists(a.model))
+        throw data::InputError("--model", "'" + a.model + "' is neither ground-truth nor an existing model file");
     auto mode = seg::parse_label_mode(a.mode);
     auto cloud = data::load_scene(a.scene);
     auto cameras = data::load_cameras(a.cameras);
@@ -75,7 +77,7 @@ void run_segment(const SegmentArgs& a) {
             throw data::InputError("--roi", "expected length,width > 0, got '" + a.roi + "'");
     }
     auto gt = cloud.int_property(a.label_property);
-    if (!gt)
+    if (ground_truth && !gt)
         throw data::InputError(a.scene, "has no integer property '" + a.label_property +
                                             "' for the ground-truth decoder");
 
@@ -87,7 +89,10 @@ void run_segment(const SegmentArgs& a) {
     co.device = a.device.device;
     vk::Context ctx(co);
     render::GpuScene scene(ctx, cloud);
-    seg::GroundTruthDecoder decoder(*gt);
+    std::unique_ptr<seg::Decoder> decoder_ptr;
+    if (ground_truth) decoder_ptr = std::make_unique<seg::GroundTruthDecoder>(*gt);
+    else decoder_ptr = std::make_unique<Ptv3Decoder>(ctx, a.model);
+    seg::Decoder& decoder = *decoder_ptr;
     seg::Segmenter segmenter(ctx, cloud, scene, cameras, decoder);
     auto result = segmenter.segment(prompts, o);
 
@@ -158,7 +163,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--cameras", a->cameras, "Camera file or COLMAP folder")->required();
     cmd->add_option("--prompts", a->prompts, "prompts.json: objects and their clicks")->required();
     cmd->add_option("--out", a->out, "Output folder")->required();
-    cmd->add_option("--model", a->model, "Decoder: ground-truth (evaluation tool reading the scene's labels)");
+    cmd->add_option("--model", a->model, "Decoder: a PTv3 model file (.safetensors), or ground-truth (evaluation tool reading the scene's labels)");
     cmd->add_option("--views", a->views, "Views to write masks for: all, none, or indices/names")->capture_default_str();
     cmd->add_option("--mode", a->mode, "Label projection: occlusion or paper")->capture_default_str();
     cmd->add_flag("--no-refine", a->no_refine, "Skip mask refinement");

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "tests/app/cli_run.h"
 #include "tests/test_paths.h"
 
@@ -82,4 +84,30 @@ TEST_CASE("infer rejects bad models, inputs and arguments with one line naming t
     auto r = pg::test::run_cli("infer --model " + model + " --input " + input + " --out " + input);
     CHECK(r.code != 0);
     CHECK(r.out.find("overwrite the input") != std::string::npos);
+}
+
+TEST_CASE("segment runs a PTv3 model file as its decoder and names it in the report") {
+    const auto dir = pg::test::scratch("segment-ptv3");
+    const std::string sample = (pg::test::source_dir() / "assets/sample/desk_000").string();
+    auto r = pg::test::run_cli("prompts " + sample + " --out " + (dir / "all.json").string());
+    REQUIRE(r.code == 0);
+    auto prompts = nlohmann::json::parse(std::ifstream(dir / "all.json"));
+    prompts["objects"] = nlohmann::json::array({prompts["objects"][0]});  // one object keeps it quick
+    std::ofstream(dir / "one.json") << prompts.dump();
+    const auto out = dir / "out";
+    fs::remove_all(out);
+    r = pg::test::run_cli("segment " + sample + "/scene.ply --cameras " + sample + "/cameras.json --prompts " +
+                          (dir / "one.json").string() + " --model " +
+                          (pg::test::fixtures() / "ptv3/small/weights.safetensors").string() + " --views 0 --out " +
+                          out.string());
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    auto report = nlohmann::json::parse(std::ifstream(out / "report.json"));
+    CHECK(report["decoder"].get<std::string>().find("ptv3") == 0);
+    CHECK(report["objects"][0]["batches"].get<int>() >= 1);
+    CHECK(fs::exists(out / "masks"));
+    r = pg::test::run_cli("segment " + sample + "/scene.ply --cameras " + sample + "/cameras.json --prompts " +
+                          (dir / "one.json").string() + " --model /no/model.safetensors --out " + (dir / "x").string());
+    CHECK(r.code != 0);
+    CHECK(r.out.find("--model") != std::string::npos);
 }

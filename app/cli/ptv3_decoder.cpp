@@ -1,0 +1,44 @@
+#include "app/cli/ptv3_decoder.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "dataset/error.h"
+#include "nn/safetensors.h"
+
+namespace pg::app {
+
+Ptv3Decoder::Ptv3Decoder(vk::Context& ctx, const std::string& model_path)
+    : path_(model_path), pool_(nn::Pool::create(ctx)) {
+    try {
+        model_ = std::make_unique<nn::Ptv3>(*pool_, nn::Ptv3Weights::load(*pool_, model_path));
+    } catch (const nn::FormatError& e) {
+        throw data::InputError("--model", e.what());
+    }
+    const auto& c = model_->config();
+    if (c.in_channels != 2 || c.num_classes != 2)
+        throw data::InputError(model_path, "is not an interactive model (needs 2 input channels: positive and "
+                                           "negative click weights, and 2 classes; has " +
+                                               std::to_string(c.in_channels) + " and " + std::to_string(c.num_classes) + ")");
+}
+
+std::vector<float> Ptv3Decoder::predict(const seg::DecoderBatch& batch) {
+    const size_t n = batch.coords.size();
+    if (n == 0) return {};
+    nn::Ptv3Input in;
+    in.coord.reserve(3 * n);
+    in.feat.reserve(2 * n);
+    for (size_t i = 0; i < n; ++i) {
+        in.coord.insert(in.coord.end(), {batch.coords[i].x, batch.coords[i].y, batch.coords[i].z});
+        in.feat.insert(in.feat.end(), {batch.features[i].x, batch.features[i].y});
+    }
+    const auto out = model_->forward(in);
+    std::vector<float> p(n);
+    for (size_t i = 0; i < n; ++i) {  // softmax over (background, foreground)
+        const float l0 = out.logits[2 * i], l1 = out.logits[2 * i + 1];
+        p[i] = 1.0f / (1.0f + std::exp(l0 - l1));
+    }
+    return p;
+}
+
+}  // namespace pg::app
