@@ -19,6 +19,11 @@ void require(bool ok, const std::string& what) {
 
 Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, const Tensor& order,
                         const Tensor& offsets, int heads, int patch, float scale) {
+    return window_attention(cmd, pool, qkv, order, offsets, heads, patch, scale, AttentionKernel::Auto);
+}
+
+Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, const Tensor& order,
+                        const Tensor& offsets, int heads, int patch, float scale, AttentionKernel kernel) {
     require(qkv.dtype == DType::F32 && qkv.shape.size() == 2 && qkv.dim(1) % 3 == 0,
             "qkv must be f32 [N, 3C], got " + std::string(dtype_name(qkv.dtype)) + " " + qkv.shape_string());
     const int64_t n = qkv.dim(0), channels = qkv.dim(1) / 3;
@@ -44,7 +49,8 @@ Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, con
     const int64_t clouds = offsets.dim(0) - 1;
     const int d = int(head_dim);
     // CPU drivers get the variant that gives each invocation many queries (see the config).
-    const bool cpu = pool.context().info().type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    const bool cpu = kernel == AttentionKernel::Auto ? pool.context().info().type == VK_PHYSICAL_DEVICE_TYPE_CPU
+                                                     : kernel == AttentionKernel::Cpu;
     const int64_t block = cpu ? PG_ATTN_CPU_THREADS * PG_ATTN_CPU_ROWS(d) : PG_ATTN_GPU_THREADS * PG_ATTN_GPU_ROWS;
     gpu::AttentionPush push{};
     push.rows = uint32_t(n);

@@ -1,6 +1,7 @@
 #pragma once
 // PTv3's serialized window attention (Pointcept SerializedAttention without relative
-// position encoding), as one tiled GPU kernel.
+// position encoding): a gather of keys/values into serialized order, then one flash-style
+// kernel (queries and a running softmax in registers, keys streamed once per query block).
 #include "nn/tensor.h"
 
 namespace pg::nn::ops {
@@ -12,8 +13,16 @@ namespace pg::nn::ops {
 // to the min(patch, n_b) positions from offsets[b] + (n_b <= patch ? 0 :
 // min(floor(l / patch) * patch, n_b - patch)): windows of `patch`, the last one pulled back
 // to end with the cloud, as the release's padding does. Returns softmax(scale * q k^T) v per
-// head, [N, C] f32 in point order (the proj Linear is the caller's).
+// head, [N, C] f32 in point order (the proj Linear is the caller's). Reads of malformed
+// order/offsets are clamped into bounds; the result is then meaningless but memory-safe.
 Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, const Tensor& order,
                         const Tensor& offsets, int heads, int patch, float scale);
+
+// Two kernels compute the same thing: Gpu stages keys through shared memory for many
+// one-query invocations; Cpu (for CPU drivers like lavapipe, needs shaderInt64) gives each
+// invocation many queries and no shared memory. Auto picks by device type; tests run both.
+enum class AttentionKernel { Auto, Gpu, Cpu };
+Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, const Tensor& order,
+                        const Tensor& offsets, int heads, int patch, float scale, AttentionKernel kernel);
 
 }  // namespace pg::nn::ops

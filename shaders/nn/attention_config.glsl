@@ -15,15 +15,16 @@ using uint = uint32_t;
 // GPUs: one query per invocation, many invocations.
 #define PG_ATTN_GPU_THREADS 64
 #define PG_ATTN_GPU_ROWS 1
-// CPU drivers (lavapipe): every load from shared memory is a per-lane scalar loop, so each
-// loaded key/value element must serve many queries. 512 / head_dim queries per invocation
-// keep the unrolled code (and the driver's compile time) the same for every head size.
+// CPU drivers (lavapipe): every load is a per-lane scalar loop, so each loaded key/value
+// element must serve many queries, and one SIMD-wide invocation group per workgroup makes
+// shared-memory staging pointless. Head size 16 (PTv3's everywhere) gets 16 queries per
+// invocation; the others get half the unrolled code, trading speed for compile time.
 #define PG_ATTN_CPU_THREADS 8
-#define PG_ATTN_CPU_ROWS(d) (256 / (d))
-// nn/attention_gather: vec4s per invocation.
+#define PG_ATTN_CPU_ROWS(d) ((d) == 16 ? 16 : 128 / (d))
+// nn/attention_gather: invocations per workgroup, one vec4 each.
 #define PG_ATTN_GATHER_THREADS 256
-// Keys per shared-memory tile (K and V: 2 * tile * head_dim floats, 16 KiB at head_dim 64),
-// consumed in groups of PG_ATTN_GROUP keys with one softmax rescale per group.
+// GPU kernel: keys per shared-memory tile (K and V: 2 * tile * head_dim floats, 16 KiB at
+// head_dim 64). Both kernels take keys in groups with one softmax rescale per group.
 #define PG_ATTN_TILE 32
 #define PG_ATTN_GROUP 4
 

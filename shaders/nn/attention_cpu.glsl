@@ -68,25 +68,15 @@ void main() {
             }
             [[unroll]] for (uint r = 0u; r < ROWS; ++r) {
                 float s[GROUP];
-                float mt = m[r];
                 [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
                     vec4 part = q[r * D4] * kg[jj * D4];
                     [[unroll]] for (uint d = 1u; d < D4; ++d) part = fma(q[r * D4 + d], kg[jj * D4 + d], part);
                     s[jj] = j0 + int(jj) < span ? (part.x + part.y) + (part.z + part.w) : kNone;
-                    mt = max(mt, s[jj]);
                 }
-                const float alpha = exp2(m[r] - mt);
-                m[r] = mt;
-                float p[GROUP];
-                float psum = 0.0;
-                [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
-                    p[jj] = exp2(s[jj] - mt);
-                    psum += p[jj];
-                }
-                l[r] = l[r] * alpha + psum;
+                const float alpha = softmax_group(m[r], l[r], s);
                 [[unroll]] for (uint d = 0u; d < D4; ++d) {
                     vec4 a = acc[r * D4 + d] * alpha;
-                    [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) a = fma(vec4(p[jj]), vg[jj * D4 + d], a);
+                    [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) a = fma(vec4(s[jj]), vg[jj * D4 + d], a);
                     acc[r * D4 + d] = a;
                 }
             }

@@ -1,7 +1,8 @@
 // Serialized window attention (PTv3, no RPE), flash style, for GPUs: a workgroup takes a block
 // of serialized positions of one cloud and one head; each invocation keeps its queries and
 // their running softmax state in registers while the window's keys and values (contiguous in
-// the gathered kv buffer) stream through shared memory in tiles. The including shader defines PG_ATTN_D (head dimension).
+// the gathered kv buffer) stream through shared memory in tiles.
+// The including shader defines PG_ATTN_D (head dimension, a multiple of 4).
 #extension GL_EXT_control_flow_attributes : require
 #include "nn/attention_config.glsl"
 
@@ -67,27 +68,17 @@ void main() {
             for (int j0 = 0; j0 < kn; j0 += GROUP) {
                 [[unroll]] for (uint r = 0u; r < ROWS; ++r) {
                     float s[GROUP];
-                    float mt = m[r];
                     [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
                         vec4 part = q[r * D4] * tile_k[(uint(j0) + jj) * D4];
                         [[unroll]] for (uint d = 1u; d < D4; ++d)
                             part = fma(q[r * D4 + d], tile_k[(uint(j0) + jj) * D4 + d], part);
                         s[jj] = j0 + int(jj) < kn ? (part.x + part.y) + (part.z + part.w) : kNone;
-                        mt = max(mt, s[jj]);
                     }
-                    const float alpha = exp2(m[r] - mt);
-                    m[r] = mt;
-                    float p[GROUP];
-                    float psum = 0.0;
-                    [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
-                        p[jj] = exp2(s[jj] - mt);
-                        psum += p[jj];
-                    }
-                    l[r] = l[r] * alpha + psum;
+                    const float alpha = softmax_group(m[r], l[r], s);
                     [[unroll]] for (uint d = 0u; d < D4; ++d) {
                         vec4 a = acc[r * D4 + d] * alpha;
                         [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj)
-                            a = fma(vec4(p[jj]), tile_v[(uint(j0) + jj) * D4 + d], a);
+                            a = fma(vec4(s[jj]), tile_v[(uint(j0) + jj) * D4 + d], a);
                         acc[r * D4 + d] = a;
                     }
                 }

@@ -75,13 +75,16 @@ TEST_CASE("GPU window attention equals the release's padded windows") {
     nn::Tensor qkv = nn::upload_tensor(*pool, in.qkv, {n, 3 * channels}, nn::DType::F32);
     nn::Tensor order = nn::upload_tensor(*pool, in.order, {n}, nn::DType::I32);
     nn::Tensor offsets = nn::upload_tensor(*pool, in.offsets, {int64_t(in.offsets.size())}, nn::DType::I32);
-    vk::CommandList cmd(ctx);
-    nn::Tensor out = nn::ops::window_attention(cmd, *pool, qkv, order, offsets, heads, patch, 0.25f);
-    cmd.submit_and_wait();
-    const auto got = nn::download_tensor<float>(ctx, out);
     const auto want = test::ref::window_attention_padded(in.qkv, in.order, in.offsets, heads, patch, 0.25);
-    REQUIRE(got.size() == want.size());
-    double worst = 0;
-    for (size_t i = 0; i < got.size(); ++i) worst = std::max(worst, std::abs(double(got[i]) - want[i]));
-    CHECK(worst <= 1e-5);
+    for (auto kernel : {nn::ops::AttentionKernel::Gpu, nn::ops::AttentionKernel::Cpu}) {
+        vk::CommandList cmd(ctx);
+        nn::Tensor out = nn::ops::window_attention(cmd, *pool, qkv, order, offsets, heads, patch, 0.25f, kernel);
+        cmd.submit_and_wait();
+        const auto got = nn::download_tensor<float>(ctx, out);
+        REQUIRE(got.size() == want.size());
+        double worst = 0;
+        for (size_t i = 0; i < got.size(); ++i) worst = std::max(worst, std::abs(double(got[i]) - want[i]));
+        INFO("kernel " << (kernel == nn::ops::AttentionKernel::Gpu ? "gpu" : "cpu"));
+        CHECK(worst <= 1e-5);
+    }
 }
