@@ -20,10 +20,21 @@ void SplatList::append(const SplatList& o) {
     cls.insert(cls.end(), o.cls.begin(), o.cls.end());
 }
 
+namespace {
+// Fraction of hard-surface splats in the translucent opacity tail.
+constexpr double kOpacityTail = 0.24;
+// The renderer's low-pass filter: variance added to every projected Gaussian, px^2.
+constexpr double kLowPassVariance = 0.3;
+// Where a saturated layer of splats ends in a fitted scene: the layer's coverage falls to one
+// half about this many (blurred) standard deviations beyond its last centres, so an optimiser
+// matching the images' silhouettes leaves the centres that far inside the surface.
+constexpr double kSilhouetteInset = 1.2;
+}  // namespace
+
 float sample_opacity(Rng& rng, float fuzz) {
     // Converged surface splats saturate; a quarter keep a log-uniform tail (pruning stops at
     // 0.005), which is what an optimiser leaves behind in overlaps and at silhouettes.
-    const double tail = 0.24 + 0.4 * fuzz;
+    const double tail = kOpacityTail + 0.4 * fuzz;
     if (rng.uniform() < tail) return float(std::exp(rng.uniform(std::log(0.006), std::log(0.85))));
     const double u = rng.uniform();
     return float(1.0 - 0.16 * u * u * (1.0 + fuzz));
@@ -104,6 +115,12 @@ float lighting(const ShapeSet& set, const Lighting& L, const glm::dvec3& p, cons
     return light;
 }
 
+double nearest_distance(const std::vector<glm::dvec3>& viewpoints, const glm::dvec3& p) {
+    double d2 = viewpoints.empty() ? 0.0 : kInf;
+    for (const glm::dvec3& v : viewpoints) d2 = std::min(d2, glm::dot(v - p, v - p));
+    return std::sqrt(d2);
+}
+
 bool faces_a_viewpoint(const std::vector<glm::dvec3>& viewpoints, const glm::dvec3& p, const glm::dvec3& n) {
     if (viewpoints.empty()) return true;
     for (const glm::dvec3& v : viewpoints)
@@ -119,22 +136,32 @@ SplatList splat_shape(const ShapeSet& set, int index, const SplatStyle& style, u
     Rng rng(derive_seed(seed, uint64_t(index)));
     const Material& m = shape.material;
     const double sigma = shape.sigma / std::sqrt(style.density), finest = sigma * style.finest;
-    const double spacing2 = 1.6;  // centre spacing^2 / sigma^2: neighbours overlap at ~1.3 sigma
+    // Centre spacing^2 / sigma^2: the opaque splats alone overlap at ~1.3 sigma, so an opaque
+    // surface has no pin-holes (tau-depth clicks fall through those); the tail comes on top.
+    const double spacing2 = 1.6 * (1.0 - kOpacityTail);
     const double candidates = std::min(2.0e7, shape.prim->area() / (spacing2 * finest * finest));
     const long count = long(candidates) + (rng.uniform() < candidates - std::floor(candidates) ? 1 : 0);
     const double eps = 0.05 * finest;
     for (long k = 0; k < count; ++k) {
         const SurfacePoint sp = shape.prim->sample(rng);
         const glm::dvec3 p = shape.frame.to_world(sp.p);
-        // Size by the local detail and the distance from the focus; candidates come at the
-        // finest size, kept with probability (finest/size)^2 so the density is 1/size^2.
+        // Size by the local detail and the distance from the focus (a coarser capture far away,
+        // still bounded by the feature size); candidates come at the finest size, kept with
+        // probability (finest/size)^2 so the density is 1/size^2.
         const double growth = std::clamp(glm::length(p - style.focus) / style.detail_radius, 1.0, style.max_growth);
-        const double size = std::clamp(0.5 * sp.feature, finest, sigma) * growth;
+        const double size = std::clamp(0.5 * sp.feature, finest * growth, sigma * growth);
         const double keep = (finest / size) * (finest / size);
         if (rng.uniform() >= keep) continue;
         const glm::dvec3 n = glm::normalize(shape.frame.dir_to_world(sp.n));
         if (!faces_a_viewpoint(style.viewpoints, p, n)) continue;
         if (set.inside(p + n * eps, index)) continue;  // touching another solid: never seen
+        // Fitted silhouettes: the splats sit on the solid eroded by the inset (centres moved in
+        // along the normal, none within the inset of an edge), so the rendered coverage, blurred
+        // by the splat's own size and the renderer's low-pass filter in the nearest view, reaches
+        // one half at the true outline, as an optimiser fitting the views would place them.
+        const double pixel = style.pixel_angle * nearest_distance(style.viewpoints, p);
+        const double inset = kSilhouetteInset * std::sqrt(size * size + kLowPassVariance * pixel * pixel);
+        if (sp.feature < inset) continue;
 
         Surfel s;
         s.n = n;
@@ -147,11 +174,11 @@ SplatList splat_shape(const ShapeSet& set, int index, const SplatStyle& style, u
         s.su = sz * std::sqrt(aniso);
         s.sv = sz / std::sqrt(aniso);
         s.sn = std::min(s.su, s.sv) * rng.uniform(0.05, 0.2);
-        s.pos = p + n * (0.3 * s.sn * rng.normal());
+        s.pos = p + n * (0.3 * s.sn * rng.normal() - inset);
         if (m.fuzz > 0.0f) {  // foliage: tilted, thicker, spread through a shell
             s.n = glm::normalize(n + double(m.fuzz) * 0.9 * glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
             s.sn = std::min(s.su, s.sv) * rng.uniform(0.2, 0.5);
-            s.pos = p + n * (double(m.fuzz) * sigma * rng.normal());
+            s.pos = p + n * (double(m.fuzz) * sigma * rng.normal() - inset);
         }
         glm::vec3 albedo = m.albedo ? m.albedo(sp.p, sp.n) : glm::vec3(0.5f);
         const float bright = 1.0f + m.colour_noise * float(rng.normal());

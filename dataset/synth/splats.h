@@ -43,6 +43,8 @@ struct SplatStyle {
     glm::dvec3 focus{0.0};
     double detail_radius = kInf;
     double max_growth = 4.0;
+    // Radians per pixel of the views the splats were fitted to (0: no image-space blur).
+    double pixel_angle = 0.0;
 };
 
 // One Gaussian on a surface point (world): long axis along `tangent` in the plane normal to n.

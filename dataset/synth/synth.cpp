@@ -164,6 +164,8 @@ SynthScene make_suite_scene(SuiteKind suite, int scene_index, uint64_t seed, con
     style.light = layout.light;
     style.focus = scene.centre;
     style.detail_radius = layout.detail_radius;
+    // The splats are fitted to the views' resolution, as a capture is trained on its images.
+    style.pixel_angle = 2.0 * std::tan(0.5 * fov * kPi / 180.0) / double(opt.width);
     style.light.up = scene.up;
     style.light.sun = glm::normalize(world.dir_to_world(layout.light.sun));
     SplatList all = splat_shapes(scene.shapes, style, derive_seed(own, 2), threads);

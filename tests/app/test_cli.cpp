@@ -41,7 +41,7 @@ TEST_CASE("info reports the sample scene's count, SH degree and cameras") {
     auto r = run("info " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json");
     INFO(r.out);
     REQUIRE(r.code == 0);
-    CHECK(r.out.find("gaussians  59611") != std::string::npos);
+    CHECK(r.out.find("gaussians  54201") != std::string::npos);
     CHECK(r.out.find("sh degree  1") != std::string::npos);
     CHECK(r.out.find("cameras    24") != std::string::npos);
     CHECK(r.out.find("instance:int") != std::string::npos);
