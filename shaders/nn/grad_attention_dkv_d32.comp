@@ -1,0 +1,5 @@
+#version 450
+// Window-attention backward, dk and dv, head dimension 32 (nn/train/grad_attention.cpp).
+#extension GL_GOOGLE_include_directive : require
+#define PG_ATTN_D 32
+#include "nn/grad_attention_dkv.glsl"
