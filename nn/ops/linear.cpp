@@ -98,19 +98,10 @@ void run_tiled(vk::CommandList& cmd, Pool& pool, const Gemm& g, const Tensor& y)
     cmd.dispatch("nn/linear_reduce", {part, bias, res, y}, rp, ceil_div(uint64_t(g.M) * g.N, 256));
 }
 
-bool lanes_for(vk::Context& ctx) {
-    switch (g_path) {
-    case GemmPath::Lanes: return true;
-    case GemmPath::Tiled: return false;
-    case GemmPath::Auto: break;
-    }
-    return ctx.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU;
-}
-
 Tensor run(vk::CommandList& cmd, Pool& pool, const Gemm& g, std::vector<int64_t> out_shape) {
     Tensor y = pool.empty(std::move(out_shape));
     if (g.M == 0 || g.N == 0) return y;
-    if (!lanes_for(pool.context())) {
+    if (!detail::use_lanes(pool.context())) {
         run_tiled(cmd, pool, g, y);
     } else if (!run_lanes(cmd, g, y)) {
         return gelu(cmd, pool, y);
@@ -160,29 +151,26 @@ Tensor linear(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& w
     return run(cmd, pool, g, std::move(out));
 }
 
-Tensor sparse_conv(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& nbr, const Tensor& w,
-                   const Tensor& bias) {
-    expect_f32(x, "sparse_conv", "x");
-    expect_f32(w, "sparse_conv", "weight");
-    if (nbr.dtype != DType::I32)
-        throw std::invalid_argument(std::string("sparse_conv: neighbour table must be i32, got ") + dtype_name(nbr.dtype));
-    if (x.shape.size() != 2) throw std::invalid_argument("sparse_conv: x " + x.shape_string() + " must be [P, Cin]");
-    if (nbr.shape.size() != 2)
-        throw std::invalid_argument("sparse_conv: neighbour table " + nbr.shape_string() + " must be [M, T]");
-    const int64_t P = x.dim(0), cin = x.dim(1), M = nbr.dim(0), T = nbr.dim(1);
-    // [Cout, T*Cin] or the checkpoint's [Cout, kx, ky, kz, Cin]: rows of T*Cin either way.
-    if (w.shape.size() < 2 || w.numel() != w.dim(0) * T * cin)
-        throw std::invalid_argument("sparse_conv: weight " + w.shape_string() + " must be [Cout, " +
-                                    std::to_string(T) + "*" + std::to_string(cin) + "]");
-    const int64_t N = w.dim(0), K = T * cin;
-    check_bias_residual("sparse_conv", bias, {}, M, N, {M, N});
-    check_size(uint64_t(P) * uint64_t(cin), "sparse_conv");
-    check_size(uint64_t(M) * uint64_t(std::max(T, N)), "sparse_conv");
-    check_size(uint64_t(N) * uint64_t(K), "sparse_conv");
+namespace detail {
+
+bool use_lanes(vk::Context& ctx) {
+    switch (g_path) {
+    case GemmPath::Lanes: return true;
+    case GemmPath::Tiled: return false;
+    case GemmPath::Auto: break;
+    }
+    return ctx.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+}
+
+Tensor gathered_conv(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& nbr, const Tensor& w,
+                     const Tensor& bias) {
+    const int64_t cin = x.dim(1), M = nbr.dim(0), T = nbr.dim(1), N = w.dim(0);
     static const Tensor none;
-    Gemm g{x, &nbr, w, bias, none, uint32_t(M), uint32_t(N), uint32_t(K), uint32_t(cin), uint32_t(T)};
+    Gemm g{x, &nbr, w, bias, none, uint32_t(M), uint32_t(N), uint32_t(T * cin), uint32_t(cin), uint32_t(T)};
     if (T == 0 || cin == 0) g.K = 0;
     return run(cmd, pool, g, {M, N});
 }
+
+}  // namespace detail
 
 }  // namespace pg::nn::ops

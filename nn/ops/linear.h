@@ -16,10 +16,11 @@ enum class Activation { None, Gelu };
 Tensor linear(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& w, const Tensor& bias,
               const Tensor& residual = {}, Activation act = Activation::None);
 
-// Submanifold sparse convolution as a gathered GEMM. x [P, Cin] f32; nbr [M, T] int32 (T = kernel
+// Submanifold sparse convolution (nn/ops/sparse_conv.cpp). x [P, Cin] f32; nbr [M, T] int32 (T = kernel
 // volume; entry -1 = no neighbour; others must be < P); w [Cout, T*Cin] f32 (spconv's
 // [out, kx, ky, kz, in] flattened, so column t*Cin + c multiplies x[nbr[m,t], c]); bias [Cout] or
-// undefined. y[m,o] = bias[o] + sum_t sum_c w[o, t*Cin+c] * x[nbr[m,t], c].
+// undefined. y[m,o] = bias[o] + sum_t sum_c w[o, t*Cin+c] * x[nbr[m,t], c]. Where it runs over a
+// rulebook (sparse_conv.h) it builds one each call: over one table several times, build it once.
 Tensor sparse_conv(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& nbr, const Tensor& w,
                    const Tensor& bias);
 
@@ -27,5 +28,13 @@ Tensor sparse_conv(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tens
 enum class GemmPath { Auto, Tiled, Lanes };
 void set_gemm_path(GemmPath path);
 GemmPath gemm_path();
+
+namespace detail {
+bool use_lanes(vk::Context& ctx);  // the kernel family gemm_path() picks on this device
+// sparse_conv as one GEMM over all T*Cin columns of A, missing neighbours multiplied as zeros:
+// for the shapes the rulebook kernels (nn/ops/sparse_conv.h) do not cover. Shapes checked.
+Tensor gathered_conv(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& nbr, const Tensor& w,
+                     const Tensor& bias);
+}  // namespace detail
 
 }  // namespace pg::nn::ops

@@ -12,6 +12,7 @@
 #include "nn/ops/norm.h"
 #include "nn/ops/pooling.h"
 #include "nn/ops/serialize.h"
+#include "nn/ops/sparse_conv.h"
 #include "nn/ops/voxelize.h"
 
 namespace pg::nn {
@@ -46,6 +47,7 @@ struct Level {
     std::vector<ops::Sorted> sorted;  // per order kind
     std::vector<int> rows;            // row j of the release's code tensor holds kind rows[j]
     Tensor nbr3;
+    ops::Rulebook rules3;             // nbr3's, built once for all the level's convolutions
     Tensor offsets;                   // attention: cloud boundaries in serialized positions
     std::vector<int32_t> offsets_host;
     ops::Clusters clusters;           // from the finer level (levels > 0)
@@ -124,9 +126,11 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
         out.flops["linear"] += 2.0 * double(a.dim(0)) * double(w.dim(0)) * double(w.dim(1));
         return ops::linear(cmd, pool_, a, w, b, residual, act);
     };
-    auto conv = [&](const Tensor& a, const Tensor& nbr, const Tensor& w, const Tensor& b) {
+    // `rules`: nbr's rulebook where the level keeps one; without, sparse_conv builds one if it uses it.
+    auto conv = [&](const Tensor& a, const Tensor& nbr, const Tensor& w, const Tensor& b,
+                    const ops::Rulebook* rules = nullptr) {
         convs.push_back({nbr, a.dim(1), w.dim(0)});
-        return ops::sparse_conv(cmd, pool_, a, nbr, w, b);
+        return rules ? ops::sparse_conv(cmd, pool_, a, *rules, w, b) : ops::sparse_conv(cmd, pool_, a, nbr, w, b);
     };
     auto emit = [&](const std::string& name, const Tensor& t) {
         if (!trace) return;
@@ -173,6 +177,7 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
         for (size_t k = 0; k < kinds; ++k) L.sorted.push_back(ops::sort_codes(cmd, pool_, L.codes[k], key_bits));
         cmd.begin_pass("neighbors");
         L.nbr3 = ops::neighbor_map(cmd, pool_, L.grid, L.batch, 3);
+        L.rules3 = ops::build_rulebook(cmd, pool_, L.nbr3);
         make_offsets(L);
     };
     auto level_rows = [&](const std::vector<int>& parent_rows, int level) {
@@ -205,7 +210,7 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
         const float scale = c.qk_scale > 0 ? float(c.qk_scale) : 1.0f / std::sqrt(float(C / heads));
         cmd.begin_pass("conv");
         Tensor h = conv(cpe_input ? *cpe_input : x, L.nbr3,
-                                    reshaped(W[p + ".cpe.0.weight"], {C, 27 * C}), W[p + ".cpe.0.bias"]);
+                                    reshaped(W[p + ".cpe.0.weight"], {C, 27 * C}), W[p + ".cpe.0.bias"], &L.rules3);
         emit(p + ".cpe.0/feat", h);
         cmd.begin_pass("linear");
         h = linear(h, W[p + ".cpe.1.weight"], W[p + ".cpe.1.bias"]);

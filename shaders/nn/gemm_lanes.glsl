@@ -15,7 +15,16 @@
 // gathered rows are read 8 floats at a time: needs cin % 8 == 0 when dense, cin % 32 == 0
 // when gathered, K % 8 == 0), Y_VEC (y rows 8 floats at a time: needs N % 8 == 0), GELU
 // (optional: apply GELU before storing; the last chunk's variant. A flag would cost the GELU
-// on every chunk: llvmpipe runs both sides of a branch).
+// on every chunk: llvmpipe runs both sides of a branch), RULEBOOK (optional, with A_VEC and
+// Y_VEC: the rows are the pairs of one tap of a sparse-convolution rulebook, the tap whose
+// columns the chunk covers (cin % KC == 0, KC 16 allowed here); each adds its product into y
+// at its output row).
+#ifndef RULEBOOK
+#define RULEBOOK 0
+#endif
+#if RULEBOOK && !(A_VEC && Y_VEC)
+#error "RULEBOOK needs A_VEC and Y_VEC"
+#endif
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "common/dispatch.glsl"
@@ -42,11 +51,18 @@ layout(std430, binding = 4) buffer YBuf { u64vec4 y8[]; };
 layout(std430, binding = 3) readonly buffer ResBuf { float res1[]; };
 layout(std430, binding = 4) buffer YBuf { float y1[]; };
 #endif
+#if RULEBOOK
+layout(std430, binding = 5) readonly buffer PairBuf { uvec2 pairs[]; };  // [taps][M]: (output row, input row)
+layout(std430, binding = 6) readonly buffer CountBuf { uint counts[]; };  // pairs per tap
+#else
 layout(std430, binding = 5) readonly buffer NbrBuf { int nbr[]; };
+#endif
 layout(push_constant) uniform PushBlock { GemmPush pc; };
 
 shared float ws[NC * KC];  // ws[c * KC + kk] = W[n0 + c, k0 + kk], zero outside W
-shared float bs[NC];
+#if !RULEBOOK
+shared float bs[NC];  // (rulebook sums start from y, which holds the bias)
+#endif
 
 // 8 floats packed in a u64vec4, low word first.
 void unpack8(u64vec4 v, out float f[8]) {
@@ -60,10 +76,21 @@ void unpack8(u64vec4 v, out float f[8]) {
 void main() {
     const uint lid = gl_LocalInvocationIndex;
     const uint g = pg_group_index();
+    const uint n0 = (g % pc.col_tiles) * NC;
+#if RULEBOOK
+    // Indirect dispatches cover exactly the tap's pairs; lanes past them compute on a copy of
+    // its last pair and store nothing.
+    const uint tap = pc.k0 / pc.cin, first = tap * pc.M, count = counts[tap];
+    const uint p = (g / pc.col_tiles) * WG + lid;
+    const uvec2 pair = pairs[first + min(p, max(count, 1u) - 1u)];
+    const uint mr = pair.x;
+    const bool store = p < count;
+#else
     const uint m = (g / pc.col_tiles) * WG + lid;
     const uint mr = min(m, pc.M - 1u);  // rows past M compute on a copy of the last row
-    const uint n0 = (g % pc.col_tiles) * NC;
+    const bool store = m < pc.M;
     const bool gather = (pc.flags & PG_GEMM_GATHER) != 0u;
+#endif
 
     // Stage W's chunk (zero past N and K) and the bias.
 #if A_VEC
@@ -91,15 +118,24 @@ void main() {
         }
     }
 #endif
+#if !RULEBOOK
     if (lid < NC) {
         const float b = bias[min(n0 + lid, pc.N - 1u)];
         bs[lid] = (pc.flags & PG_GEMM_BIAS) != 0u && n0 + lid < pc.N ? b : 0.0;
     }
+#endif
     barrier();
 
     // This lane's row of A for the chunk, zero past K and for missing neighbours.
     float a[KC];
-#if A_VEC
+#if RULEBOOK
+    // The chunk lies in one tap (cin % KC == 0): KC columns of the pair's input row.
+    [[unroll]] for (uint r = 0u; r < KC / 8u; ++r) {
+        float f[8];
+        unpack8(x8[(pair.y * pc.cin + pc.k0 % pc.cin) / 8u + r], f);
+        [[unroll]] for (uint i = 0u; i < 8u; ++i) a[8u * r + i] = f[i];
+    }
+#elif A_VEC
     [[unroll]] for (uint q = 0u; q < KC / 32u; ++q) {
         // A 32-column segment lies in one tap: cin % 32 == 0 when gathered.
         const uint k = pc.k0 + 32u * q;
@@ -129,7 +165,11 @@ void main() {
     // Start from the bias (read here, outside any branch, where it is a broadcast), then the
     // residual on the first chunk or the running sum in y on later ones.
     float acc[NC];
+#if RULEBOOK
+    [[unroll]] for (uint c = 0u; c < NC; ++c) acc[c] = 0.0;  // replaced by y below
+#else
     [[unroll]] for (uint c = 0u; c < NC; ++c) acc[c] = bs[c];
+#endif
     // (Branches do not skip work in llvmpipe, but an access in one that no lane takes is cheap.)
     if ((pc.flags & PG_GEMM_FIRST) == 0u) {
 #if Y_VEC
@@ -159,18 +199,18 @@ void main() {
 #if GELU
     [[unroll]] for (uint c = 0u; c < NC; ++c) acc[c] = pg_gelu(acc[c]);
 #endif
-    if (m < pc.M) {
+    if (store) {
 #if Y_VEC
         [[unroll]] for (uint i = 0u; i < NC / 8u; ++i)
             if (n0 + 8u * i < pc.N) {
                 u64vec4 v;
                 [[unroll]] for (uint j = 0u; j < 4u; ++j)
                     v[j] = pack64(uvec2(floatBitsToUint(acc[8u * i + 2u * j]), floatBitsToUint(acc[8u * i + 2u * j + 1u])));
-                y8[(m * pc.N + n0) / 8u + i] = v;
+                y8[(mr * pc.N + n0) / 8u + i] = v;
             }
 #else
         [[unroll]] for (uint c = 0u; c < NC; ++c)
-            if (n0 + c < pc.N) y1[m * pc.N + n0 + c] = acc[c];
+            if (n0 + c < pc.N) y1[mr * pc.N + n0 + c] = acc[c];
 #endif
     }
 }

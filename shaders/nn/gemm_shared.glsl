@@ -28,7 +28,7 @@ using uint = uint32_t;
 // (gathered; j < 0 reads zeros). Dense products pass cin = K, taps = 1.
 struct GemmPush {
     uint M, N, K;
-    uint k0;         // lanes: first column of A in this chunk; tiled: depth per split
+    uint k0;         // lanes: first column of A in this chunk; tiled: depth per split (rulebook: tap's first column)
     uint flags;
     uint cin, taps;
     uint col_tiles;  // workgroups along N; the group index is row_tile * col_tiles + col_tile

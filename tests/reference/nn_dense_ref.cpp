@@ -52,6 +52,14 @@ std::vector<float> gather_conv_input(const std::vector<float>& x, const std::vec
     return a;
 }
 
+std::vector<std::vector<std::pair<int32_t, int32_t>>> rulebook(const std::vector<int32_t>& nbr, int64_t M, int64_t T) {
+    std::vector<std::vector<std::pair<int32_t, int32_t>>> pairs(static_cast<size_t>(T));
+    for (int64_t m = 0; m < M; ++m)
+        for (int64_t t = 0; t < T; ++t)
+            if (const int32_t j = nbr[size_t(m * T + t)]; j >= 0) pairs[size_t(t)].push_back({int32_t(m), j});
+    return pairs;
+}
+
 std::vector<double> layer_norm(const std::vector<float>& x, const std::vector<float>& gamma,
                                const std::vector<float>& beta, int64_t M, int64_t C, double eps) {
     std::vector<double> y(size_t(M * C));

@@ -3,6 +3,7 @@
 // double, row-major, shapes as the ops take them.
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace pg::test::ref {
@@ -22,6 +23,10 @@ std::vector<double> linear_magnitude(const std::vector<float>& x, const std::vec
 // A of the gathered GEMM: a[m, t*cin + c] = x[nbr[m,t], c], zero where nbr is -1.
 std::vector<float> gather_conv_input(const std::vector<float>& x, const std::vector<int32_t>& nbr, int64_t M,
                                      int64_t T, int64_t cin);
+
+// The rulebook of a neighbour table (nn/ops/sparse_conv.h): per tap t, the pairs
+// (m, nbr[m,t]) for every m with nbr[m,t] >= 0, rows ascending.
+std::vector<std::vector<std::pair<int32_t, int32_t>>> rulebook(const std::vector<int32_t>& nbr, int64_t M, int64_t T);
 
 std::vector<double> layer_norm(const std::vector<float>& x, const std::vector<float>& gamma,
                                const std::vector<float>& beta, int64_t M, int64_t C, double eps);

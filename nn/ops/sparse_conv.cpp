@@ -1,0 +1,142 @@
+#include "nn/ops/sparse_conv.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "engine/vk/context.h"
+#include "nn/ops/linear.h"
+#include "shaders/nn/conv_shared.glsl"
+#include "shaders/nn/gemm_shared.glsl"
+
+namespace pg::nn::ops {
+
+namespace {
+
+constexpr uint64_t kMaxIndex = 0xFFFFFFFFull;  // shaders index in 32 bits
+
+uint32_t ceil_div(uint64_t a, uint64_t b) { return uint32_t((a + b - 1) / b); }
+
+void check_size(uint64_t n) {
+    if (n > kMaxIndex) throw std::invalid_argument("sparse_conv: tensor too large for 32-bit indexing");
+}
+
+// Throws unless x [P, Cin] f32, nbr [M, T] i32, w [Cout, T*Cin] (or [Cout, kx, ky, kz, Cin])
+// f32 and bias [Cout] f32 or undefined fit together.
+void check_conv(const Tensor& x, const Tensor& nbr, const Tensor& w, const Tensor& bias) {
+    if (x.dtype != DType::F32 || w.dtype != DType::F32)
+        throw std::invalid_argument(std::string("sparse_conv: x and weight must be f32, got ") + dtype_name(x.dtype) +
+                                    " and " + dtype_name(w.dtype));
+    if (nbr.dtype != DType::I32)
+        throw std::invalid_argument(std::string("sparse_conv: neighbour table must be i32, got ") + dtype_name(nbr.dtype));
+    if (x.shape.size() != 2) throw std::invalid_argument("sparse_conv: x " + x.shape_string() + " must be [P, Cin]");
+    if (nbr.shape.size() != 2)
+        throw std::invalid_argument("sparse_conv: neighbour table " + nbr.shape_string() + " must be [M, T]");
+    const int64_t P = x.dim(0), cin = x.dim(1), M = nbr.dim(0), T = nbr.dim(1);
+    if (w.shape.size() < 2 || w.numel() != w.dim(0) * T * cin)
+        throw std::invalid_argument("sparse_conv: weight " + w.shape_string() + " must be [Cout, " +
+                                    std::to_string(T) + "*" + std::to_string(cin) + "]");
+    const int64_t N = w.dim(0);
+    if (bias.defined() && (bias.dtype != DType::F32 || bias.shape != std::vector<int64_t>{N}))
+        throw std::invalid_argument("sparse_conv: bias " + bias.shape_string() + " must be f32 [" + std::to_string(N) +
+                                    "]");
+    check_size(uint64_t(P) * uint64_t(cin));
+    check_size(uint64_t(M) * uint64_t(std::max(T, N)));
+    check_size(uint64_t(N) * uint64_t(T) * uint64_t(cin));
+}
+
+ConvPath g_path = ConvPath::Auto;
+
+// Whether to convolve over a rulebook rather than with the gathered GEMM. The lanes rulebook
+// kernels read A and y 8 floats at a time, in chunks of 16 to 64 columns within a tap (the
+// stem's Cin = 2 stays gathered: per tap, y traffic would outweigh the products). On lavapipe
+// the rulebook wins 1.5-4x at every PTv3 level. On GPUs one gathered dispatch keeps every SM
+// busy while the per-tap dispatches of small tables would not (not measured: no GPU was at
+// hand), so they get the rulebook only for large tables, where skipping the missing
+// neighbours' products must pay.
+bool use_rulebook(vk::Context& ctx, int64_t M, int64_t cin, int64_t N) {
+    if (g_path == ConvPath::Gathered || cin == 0) return false;
+    if (detail::use_lanes(ctx)) return cin % 16 == 0 && N % 8 == 0;
+    return g_path == ConvPath::Rulebook || M >= 65536;
+}
+
+// The deepest chunk that divides Cin: each chunk re-reads and re-writes the rows of y. Deeper
+// ones run faster still (128: -20% at Cin 256) but take llvmpipe seconds to compile (128: 2.5 s,
+// 256: 10 s, 64: 0.5 s), paid again by every process.
+uint32_t lanes_chunk(int64_t cin) {
+    uint32_t kc = 64;
+    while (cin % kc) kc /= 2;
+    return kc;
+}
+
+bool rulebook_in_range(vk::Context& ctx, int64_t M, int64_t T) {
+    return uint64_t(M) * uint64_t(T) * 8 <= ctx.info().max_storage_buffer_range;
+}
+
+}  // namespace
+
+void set_conv_path(ConvPath path) { g_path = path; }
+ConvPath conv_path() { return g_path; }
+
+Rulebook build_rulebook(vk::CommandList& cmd, Pool& pool, const Tensor& nbr) {
+    if (nbr.dtype != DType::I32 || nbr.shape.size() != 2)
+        throw std::invalid_argument("build_rulebook: neighbour table " + nbr.shape_string() + " must be i32 [M, T]");
+    const int64_t M = nbr.dim(0), T = nbr.dim(1), n = M * T;
+    check_size(uint64_t(n));
+    if (!rulebook_in_range(pool.context(), M, T))
+        throw std::invalid_argument("build_rulebook: neighbour table " + nbr.shape_string() +
+                                    " has more slots than one storage buffer holds");
+    Rulebook r{nbr, pool.empty({T, M, 2}, DType::U32), pool.empty({T}, DType::U32)};
+    if (T > 0) cmd.fill(*r.counts.buffer, 0);
+    if (n > 0)
+        cmd.dispatch("nn/conv_rules", {nbr, r.counts, r.pairs}, gpu::ConvRulesPush{uint32_t(M), uint32_t(T)},
+                     uint64_t(ceil_div(uint64_t(M), 256)) * uint64_t(T));
+    return r;
+}
+
+Tensor sparse_conv(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Rulebook& rules, const Tensor& w,
+                   const Tensor& bias) {
+    check_conv(x, rules.nbr, w, bias);
+    vk::Context& ctx = pool.context();
+    const int64_t cin = x.dim(1), M = rules.rows(), T = rules.taps(), N = w.dim(0);
+    if (!use_rulebook(ctx, M, cin, N)) return detail::gathered_conv(cmd, pool, x, rules.nbr, w, bias);
+    Tensor y = pool.empty({M, N});
+    if (M == 0 || N == 0) return y;
+    const gpu::ConvInitPush init{uint32_t(M), uint32_t(N), bias.defined() ? PG_GEMM_BIAS : 0u};
+    cmd.dispatch("nn/conv_init", {bias.defined() ? bias : w, y}, init, ceil_div(uint64_t(M) * N, 256));
+    if (T == 0) return y;
+
+    // One GEMM per tap over its pairs, sized on the GPU (indirect): taps without pairs are free.
+    const bool lanes = detail::use_lanes(ctx);
+    // Lanes: one pair per invocation; a tap holds about M/4 to M/2 pairs on surfaces, and
+    // small groups leave fewer lanes idle on short tables.
+    const uint32_t wg = lanes ? (M <= 128 ? 32 : M <= 512 ? 128 : 256) : PG_TILE_M;
+    const uint32_t col_tiles = ceil_div(uint64_t(N), lanes ? PG_LANES_NC : PG_TILE_N);
+    Tensor args = pool.empty({3 * T}, DType::U32);
+    cmd.dispatch("nn/conv_args", {rules.counts, args}, gpu::ConvArgsPush{uint32_t(T), wg, col_tiles, ctx.max_group_count_x()},
+                 ceil_div(uint64_t(T), 64));
+    // Lanes kernels take one depth chunk (within a tap) per dispatch; tiled ones walk the tap.
+    const uint32_t kc = lanes ? lanes_chunk(cin) : uint32_t(cin);
+    const std::string shader =
+        lanes ? "nn/conv_lanes_w" + std::to_string(wg) + "_k" + std::to_string(kc) : std::string("nn/conv_tiled");
+    gpu::GemmPush push{uint32_t(M), uint32_t(N), uint32_t(T * cin), 0, 0, uint32_t(cin), uint32_t(T), col_tiles};
+    for (int64_t t = 0; t < T; ++t)
+        for (int64_t k = 0; k < cin; k += kc) {
+            push.k0 = uint32_t(t * cin + k);
+            cmd.dispatch_indirect(shader, {x, w, w, x, y, rules.pairs, rules.counts}, push, *args.buffer,
+                                  VkDeviceSize(t) * 12);
+        }
+    return y;
+}
+
+Tensor sparse_conv(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& nbr, const Tensor& w,
+                   const Tensor& bias) {
+    check_conv(x, nbr, w, bias);
+    vk::Context& ctx = pool.context();
+    const int64_t M = nbr.dim(0), T = nbr.dim(1), cin = x.dim(1), N = w.dim(0);
+    if (use_rulebook(ctx, M, cin, N) && rulebook_in_range(ctx, M, T))
+        return sparse_conv(cmd, pool, x, build_rulebook(cmd, pool, nbr), w, bias);
+    return detail::gathered_conv(cmd, pool, x, nbr, w, bias);
+}
+
+}  // namespace pg::nn::ops
