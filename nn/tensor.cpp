@@ -32,7 +32,9 @@ int64_t Tensor::numel() const {
     return n;
 }
 
-std::string Tensor::shape_string() const {
+std::string Tensor::shape_string() const { return nn::shape_string(shape); }
+
+std::string shape_string(const std::vector<int64_t>& shape) {
     std::string s = "[";
     for (size_t i = 0; i < shape.size(); ++i) {
         if (i) s += ',';

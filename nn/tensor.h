@@ -20,6 +20,8 @@ const char* dtype_name(DType t);
 
 class Pool;
 
+std::string shape_string(const std::vector<int64_t>& shape);  // "[2,3]"
+
 struct Tensor {
     std::shared_ptr<vk::Buffer> buffer;
     std::vector<int64_t> shape;

@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
+#include "app/cli/point_file.h"
 #include "app/cli/progress.h"
-#include "dataset/atomic_file.h"
 #include "dataset/error.h"
 #include "dataset/random.h"
 #include "engine/vk/context.h"
@@ -119,16 +119,8 @@ void run_bench_ptv3(const BenchPtv3Args& a) {
     nn::Ptv3Input in;
     if (a.input.empty()) {
         in = synthetic_crop(a.points, config.in_channels, config.grid_size, a.seed);
-    } else {  // coord f32 [N,3] then feat f32 [N,C], as `infer` reads it
-        const std::vector<char> raw = data::read_file(a.input);
-        const size_t row = sizeof(float) * size_t(3 + config.in_channels);
-        if (raw.empty() || raw.size() % row)
-            throw data::InputError(a.input, "is not a whole number of points (" + std::to_string(row) + " bytes each)");
-        const size_t n = raw.size() / row;
-        in.coord.resize(3 * n);
-        in.feat.resize(n * size_t(config.in_channels));
-        std::memcpy(in.coord.data(), raw.data(), in.coord.size() * 4);
-        std::memcpy(in.feat.data(), raw.data() + in.coord.size() * 4, in.feat.size() * 4);
+    } else {
+        in = read_point_file(a.input, config.in_channels);
     }
     in.count_conv_pairs = true;
 

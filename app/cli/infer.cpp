@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "app/cli/commands.h"
+#include "app/cli/point_file.h"
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
 #include "engine/vk/context.h"
@@ -78,22 +79,8 @@ void run_infer(const InferArgs& a) {
     } catch (const nn::FormatError& e) {
         throw data::InputError("--model", e.what());
     }
-    const std::vector<char> raw = data::read_file(a.input);
-    const size_t row = sizeof(float) * size_t(3 + c.in_channels);
-    if (raw.empty() || raw.size() % row)
-        throw data::InputError(a.input, "size " + std::to_string(raw.size()) + " bytes is not a whole number of points (" +
-                                            std::to_string(row) + " bytes each: coord f32 x3, feat f32 x" +
-                                            std::to_string(c.in_channels) + ")");
-    const size_t n = raw.size() / row;
-    nn::Ptv3Input in;
-    in.coord.resize(3 * n);
-    in.feat.resize(n * size_t(c.in_channels));
-    std::memcpy(in.coord.data(), raw.data(), in.coord.size() * sizeof(float));
-    std::memcpy(in.feat.data(), raw.data() + in.coord.size() * sizeof(float), in.feat.size() * sizeof(float));
-    for (float v : in.coord)
-        if (!std::isfinite(v)) throw data::InputError(a.input, "has a non-finite coordinate");
-    for (float v : in.feat)
-        if (!std::isfinite(v)) throw data::InputError(a.input, "has a non-finite feature");
+    nn::Ptv3Input in = read_point_file(a.input, c.in_channels);
+    const size_t n = in.size();
     in.offsets = parse_offsets(a.offsets);
     in.perms = parse_perms(a.perm);
     try {

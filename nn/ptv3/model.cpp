@@ -96,6 +96,11 @@ void Ptv3::validate(const Ptv3Config& c, const Ptv3Input& in) {
     }
 }
 
+std::vector<int32_t> Ptv3::voxel_points() const {
+    if (!voxel_points_.defined()) return {};
+    return download_tensor<int32_t>(pool_.context(), voxel_points_);
+}
+
 Ptv3::Ptv3(Pool& pool, Ptv3Weights weights) : pool_(pool), weights_(std::move(weights)) {}
 
 Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
@@ -157,8 +162,7 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
     cmd.begin_pass("voxelize");
     ops::Voxels vox = ops::voxelize(cmd, pool_, grid_t, batch_t);
     collect();
-    voxel_points_ = download_tensor<int32_t>(ctx, vox.first);
-    voxel_points_.resize(size_t(vox.count));
+    voxel_points_ = vox.first;
     out.voxels = vox.count;
 
     auto make_offsets = [&](Level& L) {

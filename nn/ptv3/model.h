@@ -54,7 +54,8 @@ public:
 
     Ptv3Output forward(const Ptv3Input& input, const Ptv3Trace& trace = {});
     // After a forward: the input point that represents each level-0 voxel.
-    const std::vector<int32_t>& voxel_points() const { return voxel_points_; }
+    // (Read from the device on demand: only tracing needs it.)
+    std::vector<int32_t> voxel_points() const;
 
     // Throws std::invalid_argument naming what is wrong with an input for this config.
     static void validate(const Ptv3Config& config, const Ptv3Input& input);
@@ -64,7 +65,7 @@ public:
 private:
     Pool& pool_;
     Ptv3Weights weights_;
-    std::vector<int32_t> voxel_points_;
+    Tensor voxel_points_;  // I32 [voxels]
 };
 
 }  // namespace pg::nn

@@ -35,16 +35,6 @@ void add_block(std::vector<std::pair<std::string, std::vector<int64_t>>>& v, con
     add_linear(v, p + ".mlp.0.fc2", c, c * cfg.mlp_ratio);
 }
 
-std::string shape_string(const std::vector<int64_t>& s) {
-    std::string r = "[";
-    for (size_t i = 0; i < s.size(); ++i) {
-        if (i) r += ',';
-        r += std::to_string(s[i]);
-    }
-    r += ']';
-    return r;
-}
-
 }  // namespace
 
 std::vector<std::pair<std::string, std::vector<int64_t>>> Ptv3Weights::expected(const Ptv3Config& c) {
