@@ -48,6 +48,21 @@ std::vector<StageCheck> compare_trace(nn::Ptv3& model, const nn::Ptv3Input& in, 
     return checks;
 }
 
+// Every traced stage within 2e-4 and the logits within 1e-4 of a fixture folder's golden files.
+void check_fixture(nn::Ptv3& model, const nn::Ptv3Input& in, const std::filesystem::path& dir) {
+    auto golden = nn::SafeTensors::load(dir / "trace.safetensors");
+    std::vector<float> logits;
+    auto checks = compare_trace(model, in, golden, logits);
+    CHECK(checks.size() >= 40);
+    for (const auto& c : checks) {
+        INFO(c.name << " relative error " << c.error);
+        CHECK(c.error < 2e-4);
+    }
+    const double err = pg::test::relative_max_error(logits, pg::test::read_f32_file(dir / "logits.bin"));
+    INFO("logits relative error " << err);
+    CHECK(err < 1e-4);
+}
+
 }  // namespace
 
 TEST_CASE("ptv3: parameter counts of the paper and small configs match the release") {
@@ -67,17 +82,7 @@ TEST_CASE("ptv3: logits and every traced stage match the release's model.py (sha
     nn::Ptv3 model(*pool, std::move(weights));
     auto in = pg::test::read_ptv3_input(dir, model.config().in_channels);
     REQUIRE(in.size() == 8192);
-    auto golden = nn::SafeTensors::load(dir / "trace.safetensors");
-    std::vector<float> logits;
-    auto checks = compare_trace(model, in, golden, logits);
-    CHECK(checks.size() >= 40);
-    for (const auto& c : checks) {
-        INFO(c.name << " relative error " << c.error);
-        CHECK(c.error < 2e-4);
-    }
-    const double err = pg::test::relative_max_error(logits, pg::test::read_f32_file(dir / "logits.bin"));
-    INFO("logits relative error " << err);
-    CHECK(err < 1e-4);
+    check_fixture(model, in, dir);
 }
 
 TEST_CASE("ptv3: logits and traced stages match our PyTorch reference (tiny config, two clouds)") {
@@ -86,17 +91,7 @@ TEST_CASE("ptv3: logits and traced stages match our PyTorch reference (tiny conf
     nn::Ptv3 model(*pool, nn::Ptv3Weights::load(*pool, dir / "weights.safetensors"));
     auto in = pg::test::read_ptv3_input(dir, model.config().in_channels);
     REQUIRE(in.offsets == std::vector<int64_t>{700, 1000});
-    auto golden = nn::SafeTensors::load(dir / "trace.safetensors");
-    std::vector<float> logits;
-    auto checks = compare_trace(model, in, golden, logits);
-    CHECK(checks.size() >= 40);
-    for (const auto& c : checks) {
-        INFO(c.name << " relative error " << c.error);
-        CHECK(c.error < 2e-4);
-    }
-    const double err = pg::test::relative_max_error(logits, pg::test::read_f32_file(dir / "logits.bin"));
-    INFO("logits relative error " << err);
-    CHECK(err < 1e-4);
+    check_fixture(model, in, dir);
 }
 
 TEST_CASE("ptv3: duplicate voxels take the logits of their voxel's lowest-index point") {
