@@ -13,6 +13,7 @@
 
 #include "nn/train/grad_ops.h"
 #include "tests/gpu_fixture.h"
+#include "tests/nn_grad/grad_test_util.h"
 #include "tests/reference/nn_dense_ref.h"
 #include "tests/reference/nn_grad_ref.h"
 #include "tests/reference/nn_index_ref.h"
@@ -23,20 +24,17 @@ using nn::Tensor;
 namespace ref = pg::test::ref;
 namespace gref = pg::test::ref::grad;
 
+using pg::test::down;
+using pg::test::same_bits;
+using pg::test::up;
+
 namespace {
 
-Tensor up(nn::Pool& pool, const std::vector<float>& v, std::vector<int64_t> shape) {
-    return nn::upload_tensor(pool, v, std::move(shape), DType::F32);
-}
 Tensor up_i32(nn::Pool& pool, const std::vector<int32_t>& v) {
     return nn::upload_tensor(pool, v, {int64_t(v.size())}, DType::I32);
 }
 
-std::vector<float> down(nn::Pool& pool, const Tensor& t) { return nn::download_tensor<float>(pool.context(), t); }
 
-bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
-    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
 
 // For copies and routings, which do no arithmetic.
 bool exact(const std::vector<float>& got, const gref::Vec& want) {

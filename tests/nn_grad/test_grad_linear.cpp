@@ -12,6 +12,7 @@
 #include "nn/ops/neighbors.h"
 #include "nn/train/grad_ops.h"
 #include "tests/gpu_fixture.h"
+#include "tests/nn_grad/grad_test_util.h"
 #include "tests/reference/nn_dense_ref.h"
 #include "tests/reference/nn_grad_ref.h"
 #include "tests/reference/nn_index_ref.h"
@@ -22,17 +23,14 @@ using nn::Tensor;
 namespace ref = pg::test::ref;
 namespace gref = pg::test::ref::grad;
 
+using pg::test::down;
+using pg::test::same_bits;
+using pg::test::up;
+
 namespace {
 
-Tensor up(nn::Pool& pool, const std::vector<float>& v, std::vector<int64_t> shape) {
-    return nn::upload_tensor(pool, v, std::move(shape), DType::F32);
-}
 
-std::vector<float> down(nn::Pool& pool, const Tensor& t) { return nn::download_tensor<float>(pool.context(), t); }
 
-bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
-    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
 
 struct LinearCase {
     std::vector<float> x, w, dy;
