@@ -14,6 +14,7 @@
 #include "nn/ops/serialize.h"
 #include "nn/ops/sparse_conv.h"
 #include "nn/ops/voxelize.h"
+#include "nn/ptv3/structure.h"
 
 namespace pg::nn {
 namespace {
@@ -21,37 +22,12 @@ namespace {
 constexpr float kBatchNormEps = 1e-3f;
 constexpr float kLayerNormEps = 1e-5f;
 
-ops::Order order_kind(const std::string& name) {
-    if (name == "z") return ops::Order::Z;
-    if (name == "z-trans") return ops::Order::ZTrans;
-    if (name == "hilbert") return ops::Order::Hilbert;
-    return ops::Order::HilbertTrans;
-}
-
-int bit_length(uint64_t v) { return v ? 64 - std::countl_zero(v) : 0; }
-
 // A tensor viewed with another shape (same buffer), e.g. conv weights [O,k,k,k,I] as [O, k^3 I].
 Tensor reshaped(const Tensor& t, std::vector<int64_t> shape) {
     Tensor r = t;
     r.shape = std::move(shape);
     return r;
 }
-
-// One resolution of the U-Net: its voxels, serialization and neighbourhoods.
-struct Level {
-    int64_t n = 0;
-    int depth = 0;
-    Tensor grid, batch;
-    std::vector<int32_t> batch_host;
-    std::vector<Tensor> codes;        // per order kind (config.order index)
-    std::vector<ops::Sorted> sorted;  // per order kind
-    std::vector<int> rows;            // row j of the release's code tensor holds kind rows[j]
-    Tensor nbr3;
-    ops::Rulebook rules3;             // nbr3's, built once for all the level's convolutions
-    Tensor offsets;                   // attention: cloud boundaries in serialized positions
-    std::vector<int32_t> offsets_host;
-    ops::Clusters clusters;           // from the finer level (levels > 0)
-};
 
 }  // namespace
 
@@ -108,8 +84,6 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
     const Ptv3Weights& W = weights_;
     const int64_t n = int64_t(in.size());
     validate(c, in);
-    const size_t kinds = c.order.size();
-    std::vector<int64_t> ends = in.offsets.empty() ? std::vector<int64_t>{n} : in.offsets;
 
     vk::Context& ctx = pool_.context();
     vk::CommandList cmd(ctx);
@@ -143,73 +117,15 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
         trace(name, t);
     };
 
-    // Host: grid and cloud ids, as the release computes them.
-    const std::vector<int32_t> grid = grid_coords(in.coord, c.grid_size);
-    std::vector<int32_t> batch(static_cast<size_t>(n));
-    for (size_t b = 0, i = 0; b < ends.size(); ++b)
-        for (; int64_t(i) < ends[b]; ++i) batch[i] = int32_t(b);
-    const int clouds = int(ends.size());
-    const int batch_bits = bit_length(uint64_t(clouds - 1));
-    int32_t max_grid = 0;
-    for (int32_t v : grid) max_grid = std::max(max_grid, v);
-    if (3 * bit_length(uint64_t(max_grid)) + batch_bits > 63)
-        throw std::invalid_argument("PTv3 input: the cloud spans too many voxels for 64-bit serialization codes");
-
-    // Voxels: the network runs on one point per voxel.
-    Tensor grid_t = upload_tensor(pool_, grid, {n, 3}, DType::I32);
-    Tensor batch_t = upload_tensor(pool_, batch, {n}, DType::I32);
+    // Uploaded before any recording: a host write into a pooled buffer must not race the stream.
     Tensor feat_t = upload_tensor(pool_, in.feat, {n, c.in_channels}, DType::F32);
-    cmd.begin_pass("voxelize");
-    ops::Voxels vox = ops::voxelize(cmd, pool_, grid_t, batch_t);
-    collect();
+    Ptv3Structure st = build_structure(cmd, pool_, c, in, out.passes);
+    const ops::Voxels& vox = st.vox;
+    const std::vector<Ptv3Level>& levels = st.levels;
     voxel_points_ = vox.first;
     out.voxels = vox.count;
 
-    auto make_offsets = [&](Level& L) {
-        L.offsets_host.assign(size_t(clouds) + 1, 0);
-        for (int32_t v : L.batch_host) L.offsets_host[size_t(v) + 1]++;
-        for (int k = 0; k < clouds; ++k) L.offsets_host[size_t(k) + 1] += L.offsets_host[size_t(k)];
-        // In the stream, not a host write: the pool may hand out a buffer that commands recorded
-        // earlier in this stream still use.
-        L.offsets = pool_.empty({clouds + 1}, DType::I32);
-        cmd.update(*L.offsets.buffer, L.offsets_host.data(), L.offsets_host.size() * sizeof(int32_t));
-    };
-    auto sort_level = [&](Level& L) {
-        cmd.begin_pass("serialize");
-        const int key_bits = std::max(1, 3 * L.depth + batch_bits);
-        L.sorted.clear();
-        for (size_t k = 0; k < kinds; ++k) L.sorted.push_back(ops::sort_codes(cmd, pool_, L.codes[k], key_bits));
-        cmd.begin_pass("neighbors");
-        L.nbr3 = ops::neighbor_map(cmd, pool_, L.grid, L.batch, 3);
-        L.rules3 = ops::build_rulebook(cmd, pool_, L.nbr3);
-        make_offsets(L);
-    };
-    auto level_rows = [&](const std::vector<int>& parent_rows, int level) {
-        std::vector<int> rows(kinds);
-        for (size_t j = 0; j < kinds; ++j) {
-            int src = in.perms.empty() ? int(j) : in.perms[size_t(level)][j];
-            rows[j] = parent_rows.empty() ? src : parent_rows[size_t(src)];
-        }
-        return rows;
-    };
-
-    std::vector<Level> levels(size_t(c.stages()));
-    {
-        Level& L = levels[0];
-        L.n = vox.count;
-        L.grid = vox.grid;
-        L.batch = vox.batch;
-        L.batch_host = download_tensor<int32_t>(ctx, vox.batch);
-        L.batch_host.resize(size_t(L.n));
-        L.depth = bit_length(uint64_t(max_grid));
-        L.rows = level_rows({}, 0);
-        cmd.begin_pass("serialize");
-        for (size_t k = 0; k < kinds; ++k)
-            L.codes.push_back(ops::serialize_codes(cmd, pool_, L.grid, L.batch, order_kind(c.order[k]), L.depth));
-        sort_level(L);
-    }
-
-    auto block = [&](const std::string& p, Tensor x, const Level& L, int C, int heads, int patch, int index,
+    auto block = [&](const std::string& p, Tensor x, const Ptv3Level& L, int C, int heads, int patch, int index,
                      const Tensor* cpe_input) {
         const float scale = c.qk_scale > 0 ? float(c.qk_scale) : 1.0f / std::sqrt(float(C / heads));
         cmd.begin_pass("conv");
@@ -235,12 +151,11 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
         Tensor qkv = linear(h, W[p + ".attn.qkv.weight"],
                                  c.qkv_bias ? W[p + ".attn.qkv.bias"] : Tensor{});
         cmd.begin_pass("attention");
-        const int row = L.rows[size_t(index) % kinds];
         for (size_t b = 0; b + 1 < L.offsets_host.size(); ++b) {
             const double nb = L.offsets_host[b + 1] - L.offsets_host[b];
             out.flops["attention"] += 4.0 * C * nb * std::min<double>(nb, patch);
         }
-        h = ops::window_attention(cmd, pool_, qkv, L.sorted[size_t(row)].order, L.offsets, heads, patch, scale);
+        h = ops::window_attention(cmd, pool_, qkv, L.order_for_block(index), L.offsets, heads, patch, scale);
         cmd.begin_pass("linear");
         if (trace) {
             h = linear(h, W[p + ".attn.proj.weight"], W[p + ".attn.proj.bias"]);
@@ -273,10 +188,8 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
     // Embedding.
     cmd.begin_pass("elementwise");
     Tensor x = ops::gather_rows(cmd, pool_, feat_t, vox.first);
-    cmd.begin_pass("neighbors");
-    Tensor nbr5 = ops::neighbor_map(cmd, pool_, levels[0].grid, levels[0].batch, 5);
     cmd.begin_pass("conv");
-    x = conv(x, nbr5,
+    x = conv(x, st.nbr5,
                          reshaped(W["embedding.stem.conv.weight"], {c.enc_channels[0], 125 * c.in_channels}), Tensor{});
     emit("embedding.stem.conv/feat", x);
     x = bn(x, "embedding.stem.norm", true);
@@ -286,24 +199,8 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
     std::vector<Tensor> skips(size_t(c.stages()));
     for (int s = 0; s < c.stages(); ++s) {
         const std::string p = "enc.enc" + std::to_string(s);
+        const Ptv3Level& L = levels[size_t(s)];
         if (s > 0) {
-            Level& P = levels[size_t(s - 1)];
-            Level& L = levels[size_t(s)];
-            const int shift = bit_length(uint64_t(c.stride[size_t(s - 1)] - 1));
-            cmd.begin_pass("pool");
-            L.clusters = ops::pool_clusters(cmd, pool_, P.codes[size_t(P.rows[0])], 3 * shift);
-            collect();
-            L.n = L.clusters.count;
-            L.depth = P.depth - shift;
-            std::vector<int32_t> head = download_tensor<int32_t>(ctx, L.clusters.head);
-            L.batch_host.resize(size_t(L.n));
-            for (int64_t m = 0; m < L.n; ++m) L.batch_host[size_t(m)] = P.batch_host[size_t(head[size_t(m)])];
-            L.grid = ops::pool_grid(cmd, pool_, P.grid, L.clusters, shift);
-            L.batch = ops::gather_batch(cmd, pool_, P.batch, L.clusters);
-            for (size_t k = 0; k < kinds; ++k)
-                L.codes.push_back(ops::pool_codes(cmd, pool_, P.codes[k], L.clusters, 3 * shift));
-            L.rows = level_rows(P.rows, s);
-            sort_level(L);
             cmd.begin_pass("linear");
             x = linear(x, W[p + ".down.proj.weight"], W[p + ".down.proj.bias"]);
             cmd.begin_pass("pool");
@@ -311,7 +208,6 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
             x = bn(x, p + ".down.norm.0", true);
             emit(p + ".down/feat", x);
         }
-        const Level& L = levels[size_t(s)];
         for (int i = 0; i < c.enc_depths[size_t(s)]; ++i)
             x = block(p + ".block" + std::to_string(i), x, L, c.enc_channels[size_t(s)], c.enc_num_head[size_t(s)],
                       c.enc_patch_size[size_t(s)], i, nullptr);
@@ -323,7 +219,7 @@ Ptv3Output Ptv3::forward(const Ptv3Input& in, const Ptv3Trace& trace) {
     // Decoder.
     for (int s = c.stages() - 2; s >= 0; --s) {
         const std::string p = "dec.dec" + std::to_string(s);
-        const Level& L = levels[size_t(s)];
+        const Ptv3Level& L = levels[size_t(s)];
         cmd.begin_pass("linear");
         Tensor up = linear(x, W[p + ".up.proj.0.weight"], W[p + ".up.proj.0.bias"]);
         up = bn(up, p + ".up.proj.1", true);
