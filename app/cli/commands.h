@@ -27,6 +27,7 @@ void register_prompts(CLI::App& app, std::function<void()>& run);
 void register_bench_segment(CLI::App& bench, std::function<void()>& run);
 void register_bench_ptv3(CLI::App& bench, std::function<void()>& run);
 void register_infer(CLI::App& app, std::function<void()>& run);
+void register_clicks(CLI::App& app, std::function<void()>& run);
 
 // "-y", "z", or "x,y,z" -> a unit vector; InputError naming --up otherwise.
 glm::dvec3 parse_up(const std::string& s);

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     pg::app::register_segment(app, run);
     pg::app::register_prompts(app, run);
     pg::app::register_infer(app, run);
+    pg::app::register_clicks(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -64,8 +64,8 @@ struct UpTape {
 
 class Step {
 public:
-    Step(Pool& pool, const Ptv3Weights& w, const TrainOptions& o, std::mt19937_64& rng, vk::CommandList& cmd)
-        : pool_(pool), W(w), c(w.config()), options_(o), rng_(rng), cmd_(cmd) {}
+    Step(Pool& pool, const Ptv3Weights& w, double bn_momentum, std::mt19937_64& rng, vk::CommandList& cmd)
+        : pool_(pool), W(w), c(w.config()), momentum_(bn_momentum), rng_(rng), cmd_(cmd) {}
 
     std::map<std::string, Tensor> grads;
 
@@ -92,7 +92,8 @@ public:
             throw std::invalid_argument("PTv3 training: BatchNorm '" + p + "' sees " + std::to_string(x.dim(0)) +
                                         " row(s); a batch needs at least 2 voxels at every level");
         grad::BatchNormTrain bn = grad::batch_norm_train(cmd_, pool_, x, W[p + ".weight"], W[p + ".bias"],
-                                                         W[p + ".running_mean"], W[p + ".running_var"], kBatchNormEps);
+                                                         W[p + ".running_mean"], W[p + ".running_var"], kBatchNormEps,
+                                                         float(momentum_));
         t = {p, x, bn.mean, bn.var, bn.y};
         return ops::gelu(cmd_, pool_, bn.y);
     }
@@ -170,7 +171,7 @@ public:
     Pool& pool_;
     const Ptv3Weights& W;
     const Ptv3Config& c;
-    const TrainOptions& options_;
+    double momentum_;
     std::mt19937_64& rng_;
     vk::CommandList& cmd_;
 };
@@ -185,14 +186,23 @@ Trainer::Trainer(Pool& pool, Ptv3Weights weights, TrainOptions options)
 }
 
 StepResult Trainer::gradients(const Ptv3Input& in, const std::vector<int32_t>& labels) {
-    return run(in, labels, nullptr, 0);
+    return run(in, labels, Mode::Gradients, 0, 0, options_.bn_momentum, options_.drop_path);
 }
 
 StepResult Trainer::step(const Ptv3Input& in, const std::vector<int32_t>& labels, double lr, double beta1) {
-    return run(in, labels, &lr, beta1);
+    return run(in, labels, Mode::Step, lr, beta1, options_.bn_momentum, options_.drop_path);
 }
 
-StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels, const double* lr, double beta1) {
+void Trainer::calibrate_batch_norm(const std::vector<Ptv3Input>& inputs) {
+    // Momentum 1/(k+1) at batch k: a running mean of the batch statistics, the first replacing
+    // whatever was there.
+    for (size_t k = 0; k < inputs.size(); ++k)
+        run(inputs[k], std::vector<int32_t>(inputs[k].size(), options_.ignore_label), Mode::Statistics, 0, 0,
+            1.0 / double(k + 1), 0.0);
+}
+
+StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels, Mode mode, double lr, double beta1,
+                        double bn_momentum, double drop_path) {
     const Ptv3Config& c = config();
     Ptv3::validate(c, in);
     const int64_t n = int64_t(in.size());
@@ -207,15 +217,15 @@ StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels,
     Tensor labels_t = upload_tensor(pool_, labels, {n}, DType::I32);
     Ptv3Structure st = build_structure(cmd, pool_, c, in, passes);
     const std::vector<Ptv3Level>& levels = st.levels;
-    Step S(pool_, weights_, options_, rng_, cmd);
+    Step S(pool_, weights_, bn_momentum, rng_, cmd);
     const auto& W = weights_;
 
     // Drop path rates per block, as Pointcept assigns them.
     int enc_blocks = 0, dec_blocks = 0;
     for (int d : c.enc_depths) enc_blocks += d;
     for (int d : c.dec_depths) dec_blocks += d;
-    const std::vector<double> enc_rate = linspace(options_.drop_path, enc_blocks);
-    const std::vector<double> dec_rate = linspace(options_.drop_path, dec_blocks);
+    const std::vector<double> enc_rate = linspace(drop_path, enc_blocks);
+    const std::vector<double> dec_rate = linspace(drop_path, dec_blocks);
 
     // Forward, keeping the tapes.
     Tensor x0 = ops::gather_rows(cmd, pool_, feat_t, st.vox.first);
@@ -279,6 +289,11 @@ StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels,
     grad::CrossEntropy ce = grad::cross_entropy(cmd, pool_, logits, voxel_labels, options_.ignore_label);
     Tensor point_logits = ops::gather_rows(cmd, pool_, logits, st.vox.inverse);
 
+    if (mode == Mode::Statistics) {
+        cmd.submit_and_wait();
+        return {};
+    }
+
     // Backward.
     Tensor d = S.linear_back(head_in, "head", ce.dlogits);
     std::vector<Tensor> d_skips(levels_n);
@@ -313,13 +328,13 @@ StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels,
     grad::ConvGrads stem_g = grad::sparse_conv_backward(cmd, pool_, x0, st.nbr5, stem_w, dstem);
     S.grads["embedding.stem.conv.weight"] = reshaped(stem_g.dw, W["embedding.stem.conv.weight"].shape);
 
-    if (lr) {
+    if (mode == Mode::Step) {
         std::vector<Tensor> params, grads;
         for (const std::string& name : names_) {
             params.push_back(W[name]);
             grads.push_back(S.grads.at(name));
         }
-        adam_.step(cmd, params, grads, *lr, beta1);
+        adam_.step(cmd, params, grads, lr, beta1);
     }
     cmd.submit_and_wait();
 

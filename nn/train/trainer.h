@@ -20,6 +20,7 @@ struct TrainOptions {
     // the decoder's (Pointcept's schedule). 0 = off.
     double drop_path = 0.3;
     uint64_t seed = 1;  // drop path masks
+    double bn_momentum = 0.01;  // BatchNorm running statistics (PTv3's BatchNorm1d)
     AdamWOptions adamw;
     int32_t ignore_label = -1;
 };
@@ -49,11 +50,18 @@ public:
     // gradients + one AdamW step with this learning rate and beta1.
     StepResult step(const Ptv3Input& in, const std::vector<int32_t>& labels, double lr, double beta1);
 
+    // Replaces the BatchNorm running statistics by their average over these batches' statistics
+    // (training-mode forwards only, no drop path): with momentum 0.01 the running statistics
+    // trail the weights by ~100 steps, which matters after short trainings.
+    void calibrate_batch_norm(const std::vector<Ptv3Input>& inputs);
+
     AdamW& optimizer() { return adam_; }
     std::mt19937_64& rng() { return rng_; }
 
 private:
-    StepResult run(const Ptv3Input& in, const std::vector<int32_t>& labels, const double* lr, double beta1);
+    enum class Mode { Statistics, Gradients, Step };
+    StepResult run(const Ptv3Input& in, const std::vector<int32_t>& labels, Mode mode, double lr, double beta1,
+                   double bn_momentum, double drop_path);
 
     Pool& pool_;
     Ptv3Weights weights_;

@@ -1,5 +1,4 @@
 #include <catch2/catch.hpp>
-#include <chrono>
 #include <cstring>
 
 #include "nn/train/initial_weights.h"
@@ -36,15 +35,15 @@ TEST_CASE("training drives the loss down on a tiny two-box scene", "[train]") {
     std::vector<double> losses;
     nn::train::StepResult last;
     for (int64_t s = 0; s < schedule.total_steps; ++s) {
-        auto t0 = std::chrono::steady_clock::now();
         last = trainer.step(scene.input, scene.labels, schedule.lr(s), schedule.beta1(s));
-        WARN("step " << s << " " << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s loss " << last.loss << " vox " << last.voxels);
         losses.push_back(last.loss);
     }
     INFO("first loss " << losses.front() << ", last " << losses.back());
     CHECK(std::isfinite(losses.back()));
     CHECK(losses.back() < 0.3 * losses.front());
-    // The model learnt the clicked box, not just the floor: inference on the trained weights.
+    // The model learnt the clicked box, not just the floor: inference on the trained weights,
+    // once the running statistics caught up with them (40 steps at momentum 0.01 would not).
+    trainer.calibrate_batch_norm({scene.input});
     nn::Ptv3 model(*pool, trainer.weights());
     const auto out = model.forward(scene.input);
     CHECK(accuracy(out.logits, scene.labels) > 0.95);
@@ -111,7 +110,7 @@ TEST_CASE("training-mode gradients match PyTorch autograd on the tiny config (tw
         if (diff / scale > worst) worst = diff / scale, worst_name = name;
     }
     INFO("worst gradient " << worst_name << ": " << worst);
-    CHECK(worst < 1e-3);
+    CHECK(worst < 1e-4);
     // BatchNorm running statistics moved as PyTorch moves them (momentum 0.01, unbiased variance).
     for (const char* bn : {"embedding.stem.norm", "enc.enc4.down.norm.0", "dec.dec0.up.proj_skip.1"})
         for (const char* stat : {".running_mean", ".running_var"}) {
