@@ -119,6 +119,7 @@ void register_bench(CLI::App& app, std::function<void()>& run) {
     cmd->callback([a, &run] { run = [a] { run_bench_render(*a); }; });
     register_bench_segment(*bench, run);
     register_bench_ptv3(*bench, run);
+    register_bench_train(*bench, run);
 }
 
 }  // namespace pg::app

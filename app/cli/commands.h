@@ -21,11 +21,13 @@ void register_render(CLI::App& app, std::function<void()>& run);
 void register_bench(CLI::App& app, std::function<void()>& run);
 void register_cameras(CLI::App& app, std::function<void()>& run);
 void register_eval(CLI::App& app, std::function<void()>& run);
+void register_train(CLI::App& app, std::function<void()>& run);
 void register_synth(CLI::App& app, std::function<void()>& run);
 void register_segment(CLI::App& app, std::function<void()>& run);
 void register_prompts(CLI::App& app, std::function<void()>& run);
 void register_bench_segment(CLI::App& bench, std::function<void()>& run);
 void register_bench_ptv3(CLI::App& bench, std::function<void()>& run);
+void register_bench_train(CLI::App& bench, std::function<void()>& run);
 void register_infer(CLI::App& app, std::function<void()>& run);
 void register_clicks(CLI::App& app, std::function<void()>& run);
 

@@ -28,8 +28,10 @@ std::vector<float> Ptv3Decoder::predict(const seg::DecoderBatch& batch) {
     nn::Ptv3Input in;
     in.coord.reserve(3 * n);
     in.feat.reserve(2 * n);
+    const bool roi_frame = model_->config().input_frame == "roi";
     for (size_t i = 0; i < n; ++i) {
-        in.coord.insert(in.coord.end(), {batch.coords[i].x, batch.coords[i].y, batch.coords[i].z});
+        const glm::vec3 p = roi_frame ? batch.frame.map(glm::dvec3(batch.coords[i])) : batch.coords[i];
+        in.coord.insert(in.coord.end(), {p.x, p.y, p.z});
         in.feat.insert(in.feat.end(), {batch.features[i].x, batch.features[i].y});
     }
     const auto out = model_->forward(in);

@@ -9,6 +9,8 @@
 
 #include <glm/glm.hpp>
 
+#include "dataset/train/roi_frame.h"
+
 namespace pg::seg {
 
 struct DecoderBatch {
@@ -16,6 +18,7 @@ struct DecoderBatch {
     std::vector<glm::vec3> coords;     // their centres
     std::vector<glm::vec2> features;   // positive and negative click weights
     std::vector<int32_t> click_gaussians;  // Gaussians hit by the object's positive clicks (-1: 3D click)
+    data::train::RoiFrame frame;       // the object's frame: first positive anchor, scene up, object scale
 };
 
 class Decoder {

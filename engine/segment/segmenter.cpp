@@ -96,6 +96,7 @@ SegmentResult Segmenter::segment(const data::Prompts& prompts, const SegmentOpti
         t0 = Clock::now();
         for (const auto& batch_slots : batches) {
             DecoderBatch batch;
+            batch.frame = data::train::RoiFrame::around(first.position, o.up, scale);
             for (auto& a : obj.anchors)
                 if (a.positive) batch.click_gaussians.push_back(a.gaussian);
             batch.gaussians.reserve(batch_slots.size());

@@ -32,6 +32,26 @@ Ptv3Config Ptv3Config::small() {
     return c;
 }
 
+Ptv3Config Ptv3Config::tiny() {
+    Ptv3Config c;
+    c.enc_depths = {1, 1, 1, 2, 1};
+    c.enc_channels = {8, 16, 16, 32, 32};
+    c.enc_num_head = {1, 2, 2, 4, 4};
+    c.enc_patch_size = {48, 48, 48, 48, 48};
+    c.dec_depths = {2, 1, 1, 1};
+    c.dec_channels = {16, 16, 16, 32};
+    c.dec_num_head = {2, 2, 2, 4};
+    c.dec_patch_size = {48, 48, 48, 48};
+    return c;
+}
+
+Ptv3Config Ptv3Config::named(const std::string& name) {
+    if (name == "paper") return paper();
+    if (name == "small") return small();
+    if (name == "tiny") return tiny();
+    throw std::invalid_argument("PTv3 config: no config named '" + name + "' (paper, small, tiny)");
+}
+
 namespace {
 template <class T> void read(const nlohmann::json& j, const char* key, T& out, bool required) {
     if (!j.contains(key)) {
@@ -70,6 +90,7 @@ Ptv3Config Ptv3Config::from_json(const nlohmann::json& j) {
     read(j, "qkv_bias", c.qkv_bias, false);
     read(j, "qk_scale", c.qk_scale, false);
     read(j, "grid_size", c.grid_size, false);
+    read(j, "input_frame", c.input_frame, false);
     require_value(j, "cls_mode", false);
     require_value(j, "enable_rpe", false);
     require_value(j, "pre_norm", true);
@@ -87,7 +108,7 @@ nlohmann::json Ptv3Config::to_json() const {
             {"dec_patch_size", dec_patch_size}, {"mlp_ratio", mlp_ratio},       {"qkv_bias", qkv_bias},
             {"qk_scale", qk_scale == 0 ? nlohmann::json(nullptr) : nlohmann::json(qk_scale)},
             {"grid_size", grid_size},           {"cls_mode", false},            {"enable_rpe", false},
-            {"pre_norm", true}};
+            {"pre_norm", true},                 {"input_frame", input_frame}};
 }
 
 void Ptv3Config::validate() const {
@@ -100,6 +121,7 @@ void Ptv3Config::validate() const {
     if (dec_depths.size() != s - 1 || dec_channels.size() != s - 1 || dec_num_head.size() != s - 1 ||
         dec_patch_size.size() != s - 1)
         fail("decoder lists need " + std::to_string(s - 1) + " entries");
+    if (input_frame != "world" && input_frame != "roi") fail("input_frame must be 'world' or 'roi'");
     if (order.empty() || order.size() > 4) fail("order needs 1 to 4 entries");
     for (auto& o : order)
         if (o != "z" && o != "z-trans" && o != "hilbert" && o != "hilbert-trans") fail("unknown order '" + o + "'");

@@ -20,11 +20,20 @@ struct Ptv3Config {
     bool qkv_bias = true;
     double qk_scale = 0;  // 0: head_dim^-0.5
     double grid_size = 0.02;
+    // Coordinates the network expects: "world" (as given, e.g. metres: converted Pointcept
+    // checkpoints) or "roi" (dataset/train/roi_frame.h: centred on the first click, z up, in
+    // units of the object scale; the models `pointgauss train` writes).
+    std::string input_frame = "world";
 
     int stages() const { return int(enc_channels.size()); }
     // The paper's interactive model (46.15 M parameters) and the reduced config of the golden fixture.
     static Ptv3Config paper();
     static Ptv3Config small();
+    // The golden fixture's tiny config (240k parameters, head dimension 8, patch 48): tests and
+    // quick training runs on CPU drivers.
+    static Ptv3Config tiny();
+    // paper, small or tiny; std::invalid_argument otherwise.
+    static Ptv3Config named(const std::string& name);
     // Throws std::invalid_argument naming the key when a value is missing, inconsistent or unsupported
     // (cls_mode, RPE, post-norm and PDNorm are not implemented).
     static Ptv3Config from_json(const nlohmann::json& j);

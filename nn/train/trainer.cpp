@@ -70,18 +70,22 @@ public:
     std::map<std::string, Tensor> grads;
 
     Tensor linear(const Tensor& x, const std::string& p, bool bias = true) {
+        cmd_.begin_pass("linear");
         return ops::linear(cmd_, pool_, x, W[p + ".weight"], bias ? W[p + ".bias"] : Tensor{});
     }
     Tensor linear_back(const Tensor& x, const std::string& p, const Tensor& dy, bool bias = true) {
+        cmd_.begin_pass("linear bwd");
         grad::LinearGrads g = grad::linear_backward(cmd_, pool_, x, W[p + ".weight"], dy);
         grads[p + ".weight"] = g.dw;
         if (bias) grads[p + ".bias"] = g.db;
         return g.dx;
     }
     Tensor layer_norm(const Tensor& x, const std::string& p, const Tensor& residual = {}) {
+        cmd_.begin_pass("norm");
         return ops::layer_norm(cmd_, pool_, x, W[p + ".weight"], W[p + ".bias"], kLayerNormEps, residual);
     }
     Tensor layer_norm_back(const Tensor& x, const std::string& p, const Tensor& dy) {
+        cmd_.begin_pass("norm bwd");
         grad::NormGrads g = grad::layer_norm_backward(cmd_, pool_, x, W[p + ".weight"], dy, kLayerNormEps);
         grads[p + ".weight"] = g.dgamma;
         grads[p + ".bias"] = g.dbeta;
@@ -91,6 +95,7 @@ public:
         if (x.dim(0) < 2)
             throw std::invalid_argument("PTv3 training: BatchNorm '" + p + "' sees " + std::to_string(x.dim(0)) +
                                         " row(s); a batch needs at least 2 voxels at every level");
+        cmd_.begin_pass("norm");
         grad::BatchNormTrain bn = grad::batch_norm_train(cmd_, pool_, x, W[p + ".weight"], W[p + ".bias"],
                                                          W[p + ".running_mean"], W[p + ".running_var"], kBatchNormEps,
                                                          float(momentum_));
@@ -98,6 +103,7 @@ public:
         return ops::gelu(cmd_, pool_, bn.y);
     }
     Tensor norm_gelu_back(const NormGeluTape& t, const Tensor& dy) {
+        cmd_.begin_pass("norm bwd");
         Tensor d = grad::gelu_backward(cmd_, pool_, t.y, dy);
         grad::NormGrads g = grad::batch_norm_backward(cmd_, pool_, t.x, t.mean, t.var, W[t.p + ".weight"], d,
                                                       kBatchNormEps);
@@ -110,6 +116,7 @@ public:
     }
     // x + branch, the branch's rows scaled by the drop path mask when there is one.
     Tensor residual(const Tensor& x, const Tensor& branch, const Tensor& keep) {
+        cmd_.begin_pass("elementwise");
         return ops::add(cmd_, pool_, x, keep.defined() ? scale_rows(cmd_, pool_, branch, keep) : branch);
     }
     Tensor through_keep(const Tensor& dy, const Tensor& keep) {
@@ -126,17 +133,20 @@ public:
         t.scale = c.qk_scale > 0 ? float(c.qk_scale) : 1.0f / std::sqrt(float(C / heads));
         t.separate_cpe_input = cpe_input != nullptr;
         t.cpe_in = cpe_input ? *cpe_input : x;
+        cmd_.begin_pass("conv");
         t.h1 = ops::sparse_conv(cmd_, pool_, t.cpe_in, L.rules3, reshaped(W[p + ".cpe.0.weight"], {C, 27 * C}),
                                 W[p + ".cpe.0.bias"]);
         t.h2 = linear(t.h1, p + ".cpe.1");
         t.x1 = layer_norm(t.h2, p + ".cpe.2", x);
         t.n1 = layer_norm(t.x1, p + ".norm1.0");
         t.qkv = linear(t.n1, p + ".attn.qkv", c.qkv_bias);
+        cmd_.begin_pass("attention");
         t.a = ops::window_attention(cmd_, pool_, t.qkv, L.order_for_block(index), L.offsets, heads, patch, t.scale);
         t.keep_attn = keep_mask(L.n, drop_rate);
         t.x2 = residual(t.x1, linear(t.a, p + ".attn.proj"), t.keep_attn);
         t.n2 = layer_norm(t.x2, p + ".norm2.0");
         t.pre = linear(t.n2, p + ".mlp.0.fc1");
+        cmd_.begin_pass("elementwise");
         t.f1 = ops::gelu(cmd_, pool_, t.pre);
         t.keep_mlp = keep_mask(L.n, drop_rate);
         return residual(t.x2, linear(t.f1, p + ".mlp.0.fc2"), t.keep_mlp);
@@ -147,16 +157,19 @@ public:
         const std::string& p = t.p;
         const int C = int(t.x1.dim(1));
         Tensor d = linear_back(t.f1, p + ".mlp.0.fc2", through_keep(dy, t.keep_mlp));
+        cmd_.begin_pass("elementwise");
         d = grad::gelu_backward(cmd_, pool_, t.pre, d);
         d = linear_back(t.n2, p + ".mlp.0.fc1", d);
         Tensor dx2 = ops::add(cmd_, pool_, dy, layer_norm_back(t.x2, p + ".norm2.0", d));
         d = linear_back(t.a, p + ".attn.proj", through_keep(dx2, t.keep_attn));
+        cmd_.begin_pass("attention bwd");
         d = grad::window_attention_backward(cmd_, pool_, t.qkv, t.level->order_for_block(t.index), t.level->offsets,
                                             t.heads, t.patch, t.scale, d);
         d = linear_back(t.n1, p + ".attn.qkv", d, c.qkv_bias);
         Tensor dx1 = ops::add(cmd_, pool_, dx2, layer_norm_back(t.x1, p + ".norm1.0", d));
         d = layer_norm_back(t.h2, p + ".cpe.2", dx1);
         d = linear_back(t.h1, p + ".cpe.1", d);
+        cmd_.begin_pass("conv bwd");
         grad::ConvGrads g = grad::sparse_conv_backward(cmd_, pool_, t.cpe_in, t.level->nbr3,
                                                        reshaped(W[p + ".cpe.0.weight"], {C, 27 * C}), d);
         grads[p + ".cpe.0.weight"] = reshaped(g.dw, W[p + ".cpe.0.weight"].shape);
@@ -228,6 +241,7 @@ StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels,
     const std::vector<double> dec_rate = linspace(drop_path, dec_blocks);
 
     // Forward, keeping the tapes.
+    cmd.begin_pass("conv");
     Tensor x0 = ops::gather_rows(cmd, pool_, feat_t, st.vox.first);
     const Tensor stem_w = reshaped(W["embedding.stem.conv.weight"], {c.enc_channels[0], 125 * c.in_channels});
     Tensor stem = ops::sparse_conv(cmd, pool_, x0, st.nbr5, stem_w, Tensor{});
@@ -247,6 +261,7 @@ StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels,
             DownTape& d = downs[size_t(s)];
             d.x = x;
             d.lin = S.linear(x, p + ".down.proj");
+            cmd.begin_pass("pool");
             x = S.norm_gelu(d.norm, p + ".down.norm.0", ops::segment_max(cmd, pool_, d.lin, L.clusters));
         }
         auto& tapes = enc_tapes[size_t(s)];
@@ -268,6 +283,7 @@ StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels,
         u.skip_in = skips[size_t(s)];
         u.lin_skip = S.linear(u.skip_in, p + ".up.proj_skip.0");
         Tensor skip = S.norm_gelu(u.norm_skip, p + ".up.proj_skip.1", u.lin_skip);
+        cmd.begin_pass("elementwise");
         x = ops::add_gathered(cmd, pool_, skip, up, levels[size_t(s + 1)].clusters.cluster);
         auto& tapes = dec_tapes[size_t(s)];
         const int depth = c.dec_depths[size_t(s)];
@@ -285,6 +301,7 @@ StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels,
     }
     const Tensor head_in = x;
     Tensor logits = S.linear(x, "head");
+    cmd.begin_pass("loss");
     Tensor voxel_labels = ops::gather_rows(cmd, pool_, labels_t, st.vox.first);
     grad::CrossEntropy ce = grad::cross_entropy(cmd, pool_, logits, voxel_labels, options_.ignore_label);
     Tensor point_logits = ops::gather_rows(cmd, pool_, logits, st.vox.inverse);
@@ -304,6 +321,7 @@ StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels,
         for (int i = int(tapes.size()) - 1; i >= 0; --i) d = S.block_back(tapes[size_t(i)], d, &d_skip);
         const UpTape& u = ups[size_t(s)];
         // x = skip + up[cluster]: skip gets d (plus the first block's CPE branch), up the cluster sums.
+        cmd.begin_pass("elementwise");
         d_skip = d_skip.defined() ? ops::add(cmd, pool_, d, d_skip) : d;
         grad::AddGatheredGrads ag =
             grad::add_gathered_backward(cmd, pool_, d, grad::group_rows(levels[size_t(s + 1)].clusters));
@@ -320,15 +338,18 @@ StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels,
             const std::string p = "enc.enc" + std::to_string(s);
             const DownTape& dt = downs[size_t(s)];
             Tensor dm = S.norm_gelu_back(dt.norm, d);
+            cmd.begin_pass("pool bwd");
             Tensor dl = grad::segment_max_backward(cmd, pool_, dt.lin, levels[size_t(s)].clusters, dm);
             d = S.linear_back(dt.x, p + ".down.proj", dl);
         }
     }
     Tensor dstem = S.norm_gelu_back(stem_tape, d);
+    cmd.begin_pass("conv bwd");
     grad::ConvGrads stem_g = grad::sparse_conv_backward(cmd, pool_, x0, st.nbr5, stem_w, dstem);
     S.grads["embedding.stem.conv.weight"] = reshaped(stem_g.dw, W["embedding.stem.conv.weight"].shape);
 
     if (mode == Mode::Step) {
+        cmd.begin_pass("optimizer");
         std::vector<Tensor> params, grads;
         for (const std::string& name : names_) {
             params.push_back(W[name]);
@@ -339,6 +360,8 @@ StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels,
     cmd.submit_and_wait();
 
     StepResult r;
+    r.passes = std::move(passes);
+    for (const auto& p : cmd.timings()) r.passes.push_back(p);
     r.voxels = st.vox.count;
     r.loss = download_tensor<float>(ctx, ce.loss)[0];
     r.counted = int64_t(download_tensor<uint32_t>(ctx, ce.info)[0]);

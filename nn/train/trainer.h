@@ -32,6 +32,7 @@ struct StepResult {
     int64_t voxels = 0;
     std::vector<float> logits;   // [n, classes] per input point (its voxel's)
     std::map<std::string, Tensor> grads;  // by canonical parameter name
+    std::vector<vk::PassTiming> passes;   // GPU time per recorded pass (op families, "... bwd")
 };
 
 class Trainer {
@@ -56,6 +57,7 @@ public:
     void calibrate_batch_norm(const std::vector<Ptv3Input>& inputs);
 
     AdamW& optimizer() { return adam_; }
+    Pool& pool() { return pool_; }
     std::mt19937_64& rng() { return rng_; }
 
 private:

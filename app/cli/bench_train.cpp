@@ -1,0 +1,148 @@
+// pointgauss bench train: training steps per second, GPU ms per op family (forward and
+// backward) and peak device memory of PTv3 training steps on synthetic click crops, as medians.
+// The comparison figure is tools/bench_train_torch.py: the same config, step and input size in
+// PyTorch on the CPU.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "app/cli/commands.h"
+#include "app/cli/progress.h"
+#include "app/cli/synthetic_crop.h"
+#include "dataset/error.h"
+#include "engine/vk/context.h"
+#include "nn/safetensors.h"
+#include "nn/train/initial_weights.h"
+#include "nn/train/trainer.h"
+
+namespace pg::app {
+
+namespace {
+
+struct BenchTrainArgs {
+    std::string config = "small";
+    int points = 8192, clouds = 1, repeats = 5, warmup = 1;
+    uint64_t seed = 1;
+    bool json = false;
+    DeviceOptions device;
+};
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+void run_bench_train(const BenchTrainArgs& a) {
+    if (a.points < 16) throw data::InputError("--points", "must be at least 16");
+    if (a.clouds < 1) throw data::InputError("--clouds", "must be at least 1");
+    if (a.repeats < 1) throw data::InputError("--repeats", "must be at least 1");
+    nn::Ptv3Config config;
+    try {
+        config = nn::Ptv3Config::named(a.config);
+    } catch (const std::invalid_argument&) {
+        try {
+            config = nn::Ptv3Weights::config_of(nn::SafeTensors::load(a.config));
+        } catch (const nn::FormatError& e) {
+            throw data::InputError("--config", e.what());
+        }
+    }
+    vk::ContextOptions co;
+    co.device = a.device.device;
+    co.quiet = a.json;
+    vk::Context ctx(co);
+    auto pool = nn::Pool::create(ctx);
+    nn::train::Trainer trainer(*pool, nn::Ptv3Weights::from_host(*pool, config, nn::train::initial_weights(config, a.seed),
+                                                                 "initial"));
+    // One batch of `clouds` crops; label 1 where the positive click weight is high (the first shape).
+    nn::Ptv3Input in;
+    std::vector<int32_t> labels;
+    for (int b = 0; b < a.clouds; ++b) {
+        nn::Ptv3Input crop = synthetic_crop(a.points, config.in_channels, config.grid_size, a.seed + uint64_t(b));
+        for (size_t i = 0; i < crop.size(); ++i) labels.push_back(crop.feat[i * size_t(config.in_channels)] > 0.5f);
+        in.coord.insert(in.coord.end(), crop.coord.begin(), crop.coord.end());
+        in.feat.insert(in.feat.end(), crop.feat.begin(), crop.feat.end());
+        in.offsets.push_back(int64_t(in.size()));
+    }
+    uint64_t weights_bytes = 0;  // weights, running statistics and AdamW moments: live between steps
+
+    std::vector<std::string> families;
+    std::map<std::string, std::vector<double>> family_ms;
+    std::vector<double> wall, gpu;
+    uint64_t peak = 0;
+    Progress progress("bench train", size_t(a.warmup + a.repeats));
+    for (int r = 0; r < a.warmup + a.repeats; ++r) {
+        pool->reset_peak();
+        auto t0 = std::chrono::steady_clock::now();
+        const nn::train::StepResult out = trainer.step(in, labels, 1e-4, 0.9);
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        progress.step();
+        peak = std::max(peak, pool->peak_bytes());
+        weights_bytes = pool->live_bytes();
+        if (r < a.warmup) continue;
+        std::map<std::string, double> sum;
+        double total = 0;
+        for (const auto& p : out.passes) {
+            if (std::find(families.begin(), families.end(), p.name) == families.end()) families.push_back(p.name);
+            sum[p.name] += p.ms;
+            total += p.ms;
+        }
+        for (const auto& f : families) family_ms[f].push_back(sum[f]);
+        wall.push_back(ms);
+        gpu.push_back(total);
+    }
+    progress.finish();
+    std::sort(families.begin(), families.end());
+    const double wall_med = median(wall), gpu_med = median(gpu);
+    const long long params = trainer.weights().parameter_count();
+    const double mib = 1.0 / 1048576.0;
+    if (a.json) {
+        nlohmann::json j;
+        j["device"] = ctx.info().name;
+        j["config"] = a.config;
+        j["parameters"] = params;
+        j["points_per_cloud"] = a.points;
+        j["clouds"] = a.clouds;
+        j["repeats"] = a.repeats;
+        for (const auto& f : families) j["family_ms"][f] = median(family_ms[f]);
+        j["gpu_ms"] = gpu_med;
+        j["step_ms"] = wall_med;
+        j["steps_per_s"] = 1000.0 / wall_med;
+        j["weights_mib"] = double(weights_bytes) * mib;
+        j["peak_mib"] = double(peak) * mib;
+        std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    std::printf("device: %s\nconfig: %s (%lld parameters), %d cloud(s) x %d points, median of %d steps\n\n", ctx.info().name.c_str(),
+                a.config.c_str(), params, a.clouds, a.points, a.repeats);
+    std::printf("%-16s %10s %7s\n", "ops", "GPU ms", "share");
+    for (const auto& f : families) {
+        const double m = median(family_ms[f]);
+        std::printf("%-16s %10.2f %6.1f%%\n", f.c_str(), m, 100 * m / std::max(gpu_med, 1e-9));
+    }
+    std::printf("%-16s %10.2f\n%-16s %10.2f\n\n", "GPU total", gpu_med, "step wall", wall_med);
+    std::printf("%.2f steps/s, %.0f points/s\n", 1000.0 / wall_med, 1000.0 * a.points * a.clouds / wall_med);
+    std::printf("memory: weights + optimizer state %.1f MiB, peak during a step %.1f MiB\n",
+                double(weights_bytes) * mib, double(peak) * mib);
+}
+
+}  // namespace
+
+void register_bench_train(CLI::App& bench, std::function<void()>& run) {
+    auto a = std::make_shared<BenchTrainArgs>();
+    auto* cmd = bench.add_subcommand("train", "Steps/s, GPU ms per op family and peak memory of PTv3 training steps");
+    cmd->add_option("--config", a->config, "tiny, small, paper, or a model file whose config to use")->capture_default_str();
+    cmd->add_option("--points", a->points, "Points per synthetic crop")->capture_default_str();
+    cmd->add_option("--clouds", a->clouds, "Crops per batch")->capture_default_str();
+    cmd->add_option("--repeats", a->repeats, "Timed steps (medians are reported)")->capture_default_str();
+    cmd->add_option("--warmup", a->warmup, "Untimed steps first")->capture_default_str();
+    cmd->add_option("--seed", a->seed, "Seed of the weights and the synthetic input")->capture_default_str();
+    cmd->add_flag("--json", a->json, "Print JSON instead of a table");
+    add_device_option(*cmd, a->device);
+    cmd->callback([a, &run] { run = [a] { run_bench_train(*a); }; });
+}
+
+}  // namespace pg::app

@@ -1,0 +1,41 @@
+#pragma once
+// Labelled scenes for training the interactive model: what sample drawing needs from a
+// scene (Gaussian centres, instance ids, camera positions, up) and nothing else, so a
+// training set of many scenes stays small in memory.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace pg::data::train {
+
+struct TrainScene {
+    std::string name;                          // scene folder name, or the PLY's stem
+    std::filesystem::path source;              // the PLY read
+    std::vector<glm::vec3> positions;          // Gaussian centres
+    std::vector<int32_t> instance;             // per Gaussian; 0 = background, > 0 = an object
+    std::vector<glm::dvec3> camera_positions;  // empty for a bare PLY
+    glm::dvec3 up{0, -1, 0};                   // unit
+
+    size_t size() const { return positions.size(); }
+    bool has_cameras() const { return !camera_positions.empty(); }
+};
+
+// A scene folder (scene.ply plus cameras: sparse/0, cameras.json or transforms.json, as
+// load_cameras finds them) or a bare PLY. The PLY needs an integer "instance" property with
+// at least one object (id > 0). Up: `up` if given, else the cameras' mean up, else (no
+// cameras, or cameras too disagreeing to say) a ground-plane fit. Throws InputError naming
+// the path and the reason.
+TrainScene load_train_scene(const std::filesystem::path& dir_or_ply, std::optional<glm::dvec3> up = std::nullopt);
+
+// Expands each path: a suite folder (suite.json) into its scenes of `split` ("train",
+// "test" or "all"), a scene folder (scene.ply) or a PLY file into itself. Order is kept
+// (suite order within a suite). Throws InputError for a path that is none of these, a
+// malformed suite.json or an unknown split.
+std::vector<std::filesystem::path> find_train_scenes(const std::vector<std::filesystem::path>& paths,
+                                                     const std::string& split);
+
+}  // namespace pg::data::train

@@ -1,0 +1,119 @@
+// `pointgauss train` end to end on a tiny synthetic suite: the model file, the log, chunked
+// training that resumes to the same bytes, and clear errors.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "dataset/atomic_file.h"
+#include "tests/app/cli_run.h"
+#include "tests/test_paths.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+using pg::test::Run;
+Run run(const std::string& args) { return pg::test::run_cli(args); }
+
+fs::path train_suite() {
+    static const fs::path dir = [] {
+        fs::path d = pg::test::scratch("cli-train-suite");
+        fs::remove_all(d);
+        auto r = run("synth --suite desk --scenes 2 --seed 9 --density 0.05 --cameras 4 --width 64 --height 48 "
+                     "--previews 1 --out " + d.string());
+        INFO(r.out);
+        REQUIRE(r.code == 0);
+        return d;
+    }();
+    return dir;
+}
+
+std::string common_args(const fs::path& suite) {
+    return "train --data " + suite.string() + " --val " + (suite / "desk_001").string() +
+           " --config tiny --batch 2 --points 768 --clicks 1 --val-samples 2 --val-every 2 --calibration 2 --seed 4";
+}
+
+json safetensors_metadata(const fs::path& p) {
+    const std::vector<char> bytes = pg::data::read_file(p);
+    uint64_t n = 0;
+    std::memcpy(&n, bytes.data(), 8);
+    return json::parse(std::string(bytes.data() + 8, n))["__metadata__"];
+}
+
+}  // namespace
+
+TEST_CASE("train writes an interactive model, its log and a checkpoint; chunks resume to the same model") {
+    const fs::path suite = train_suite();
+    const fs::path dir = pg::test::scratch("cli-train");
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+
+    Run whole = run(common_args(suite) + " --steps 4 --out " + (dir / "whole.safetensors").string());
+    INFO(whole.out);
+    REQUIRE(whole.code == 0);
+    CHECK(whole.out.find("validation IoU") != std::string::npos);
+    const json meta = safetensors_metadata(dir / "whole.safetensors");
+    const json config = json::parse(meta["config"].get<std::string>());
+    CHECK(config["input_frame"] == "roi");
+    CHECK(config["in_channels"] == 2);
+    CHECK(json::parse(meta["training"].get<std::string>())["steps"] == 4);
+    std::ifstream log(dir / "whole.log.jsonl");
+    int lines = 0;
+    for (std::string line; std::getline(log, line); ++lines) {
+        const json e = json::parse(line);
+        CHECK(e["step"] == lines + 1);
+        CHECK(std::isfinite(e["loss"].get<double>()));
+    }
+    CHECK(lines == 4);
+    CHECK(fs::exists(dir / "whole.ckpt.safetensors"));
+
+    // The same run in two chunks: stop after step 2, resume from the checkpoint.
+    Run first = run(common_args(suite) + " --steps 4 --stop-at 2 --out " + (dir / "chunked.safetensors").string());
+    INFO(first.out);
+    REQUIRE(first.code == 0);
+    CHECK_FALSE(fs::exists(dir / "chunked.safetensors"));
+    Run second = run(common_args(suite) + " --steps 4 --resume " + (dir / "chunked.ckpt.safetensors").string() +
+                     " --out " + (dir / "chunked.safetensors").string());
+    INFO(second.out);
+    REQUIRE(second.code == 0);
+    CHECK(pg::data::read_file(dir / "chunked.safetensors") == pg::data::read_file(dir / "whole.safetensors"));
+
+    // The model runs in the pipeline as its decoder.
+    const fs::path scene = suite / "desk_000";
+    Run prompts = run("prompts " + scene.string() + " --out " + (dir / "prompts.json").string());
+    REQUIRE(prompts.code == 0);
+    Run seg = run("segment " + (scene / "scene.ply").string() + " --cameras " + (scene / "cameras.json").string() +
+                  " --prompts " + (dir / "prompts.json").string() + " --model " + (dir / "whole.safetensors").string() +
+                  " --views none --out " + (dir / "seg").string());
+    INFO(seg.out);
+    CHECK(seg.code == 0);
+}
+
+TEST_CASE("train: bad arguments are one clear error and nothing is written") {
+    const fs::path suite = train_suite();
+    const fs::path dir = pg::test::scratch("cli-train-bad");
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string out = " --out " + (dir / "m.safetensors").string();
+    struct Case {
+        std::string args, names;
+    } cases[] = {
+        {"train --data " + (dir / "missing").string() + out, "missing"},
+        {common_args(suite) + " --out " + (dir / "m.bin").string(), "--out"},
+        {common_args(suite) + " --config huge" + out, "--config"},
+        {common_args(suite) + " --steps 0" + out, "--steps"},
+        {common_args(suite) + " --resume " + (suite / "suite.json").string() + out, "--resume"},
+    };
+    for (const auto& c : cases) {
+        Run r = run(c.args);
+        INFO(c.args << "\n" << r.out);
+        CHECK(r.code != 0);
+        CHECK(r.out.find(c.names) != std::string::npos);
+    }
+    CHECK(fs::is_empty(dir));
+}
