@@ -75,13 +75,13 @@ void run_bench_train(const BenchTrainArgs& a) {
     uint64_t peak = 0;
     Progress progress("bench train", size_t(a.warmup + a.repeats));
     for (int r = 0; r < a.warmup + a.repeats; ++r) {
+        if (r > 0) weights_bytes = pool->live_bytes();  // the previous step's tensors are gone
         pool->reset_peak();
         auto t0 = std::chrono::steady_clock::now();
         const nn::train::StepResult out = trainer.step(in, labels, 1e-4, 0.9);
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         progress.step();
         peak = std::max(peak, pool->peak_bytes());
-        weights_bytes = pool->live_bytes();
         if (r < a.warmup) continue;
         std::map<std::string, double> sum;
         double total = 0;

@@ -1,12 +1,27 @@
 #include "app/cli/ptv3_decoder.h"
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <stdexcept>
 
 #include "dataset/error.h"
 #include "nn/safetensors.h"
 
 namespace pg::app {
+
+std::string default_model_path() {
+    if (const char* env = std::getenv("PG_MODEL"); env && *env) return env;
+    namespace fs = std::filesystem;
+    const fs::path rel = fs::path("assets") / "models" / "interactive.safetensors";
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec)  // build/app/pointgauss -> the repository root two folders up
+        for (fs::path dir = exe.parent_path(); !dir.empty() && dir != dir.root_path(); dir = dir.parent_path())
+            if (fs::exists(dir / rel)) return (dir / rel).string();
+    const fs::path source = fs::path(PG_SOURCE_DIR) / rel;
+    return fs::exists(source) ? source.string() : std::string();
+}
 
 Ptv3Decoder::Ptv3Decoder(vk::Context& ctx, const std::string& model_path)
     : path_(model_path), pool_(nn::Pool::create(ctx)) {

@@ -9,6 +9,11 @@
 
 namespace pg::app {
 
+// The shipped interactive model: $PG_MODEL if set, else assets/models/interactive.safetensors
+// beside the binary's source tree (found from the executable's location, then from the source
+// path it was built from). Empty if none exists.
+std::string default_model_path();
+
 class Ptv3Decoder : public seg::Decoder {
 public:
     Ptv3Decoder(vk::Context& ctx, const std::string& model_path);

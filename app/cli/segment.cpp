@@ -50,12 +50,14 @@ std::string safe_file_name(std::string name) {
     return name.empty() ? "object" : name;
 }
 
-void run_segment(const SegmentArgs& a) {
+void run_segment(const SegmentArgs& args) {
     auto total_start = std::chrono::steady_clock::now();
+    SegmentArgs a = args;
+    if (a.model.empty()) a.model = default_model_path();
     if (a.model.empty())
-        throw data::InputError("--model", "no trained model is shipped yet; give a PTv3 model file, or "
-                                          "ground-truth on a labelled scene (an evaluation tool that reads the "
-                                          "scene's own labels)");
+        throw data::InputError("--model", "the shipped model assets/models/interactive.safetensors was not found "
+                                          "(set PG_MODEL or give --model FILE.safetensors, or ground-truth on a "
+                                          "labelled scene)");
     const bool ground_truth = a.model == "ground-truth";
     if (!ground_truth && !fs::exists(a.model))
         throw data::InputError("--model", "'" + a.model + "' is neither ground-truth nor an existing model file");
@@ -163,7 +165,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--cameras", a->cameras, "Camera file or COLMAP folder")->required();
     cmd->add_option("--prompts", a->prompts, "prompts.json: objects and their clicks")->required();
     cmd->add_option("--out", a->out, "Output folder")->required();
-    cmd->add_option("--model", a->model, "Decoder: a PTv3 model file (.safetensors), or ground-truth (evaluation tool reading the scene's labels)");
+    cmd->add_option("--model", a->model, "Decoder: a PTv3 model file (.safetensors; default: the shipped assets/models/interactive.safetensors), or ground-truth (evaluation tool reading the scene's labels)");
     cmd->add_option("--views", a->views, "Views to write masks for: all, none, or indices/names")->capture_default_str();
     cmd->add_option("--mode", a->mode, "Label projection: occlusion or paper")->capture_default_str();
     cmd->add_flag("--no-refine", a->no_refine, "Skip mask refinement");
