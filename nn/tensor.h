@@ -35,6 +35,14 @@ struct Tensor {
     operator vk::BufferRange() const { return vk::BufferRange(*buffer); }  // NOLINT: binds as a whole buffer
 };
 
+// The same buffer viewed with another shape of as many elements (e.g. conv weights
+// [O,k,k,k,I] as [O, k^3 I]); no copy, no check.
+inline Tensor reshaped(const Tensor& t, std::vector<int64_t> shape) {
+    Tensor r = t;
+    r.shape = std::move(shape);
+    return r;
+}
+
 // Buffers of dropped tensors, kept for reuse (best fit by size). Sizes are rounded up to
 // powers of two above 4 KiB so layers of similar size share buffers.
 class Pool : public std::enable_shared_from_this<Pool> {

@@ -26,13 +26,6 @@ struct BenchRenderArgs {
     DeviceOptions device;
 };
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 void run_bench_render(const BenchRenderArgs& a) {
     if (a.frames < 1) throw data::InputError("--frames", "must be at least 1");
     if (a.warmup < 0) throw data::InputError("--warmup", "must not be negative");

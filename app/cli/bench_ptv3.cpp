@@ -36,12 +36,6 @@ struct BenchPtv3Args {
     DeviceOptions device;
 };
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
 void run_bench_ptv3(const BenchPtv3Args& a) {
     if (a.points < 1) throw data::InputError("--points", "must be at least 1");
     if (a.repeats < 1) throw data::InputError("--repeats", "must be at least 1");

@@ -29,12 +29,6 @@ struct BenchSegmentArgs {
     DeviceOptions device;
 };
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
 void run_bench_segment(const BenchSegmentArgs& a) {
     if (a.repeats < 1) throw data::InputError("--repeats", "must be at least 1");
     auto cloud = data::load_scene(a.scene);

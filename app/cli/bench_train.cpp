@@ -11,6 +11,7 @@
 
 #include "app/cli/commands.h"
 #include "app/cli/progress.h"
+#include "app/cli/ptv3_decoder.h"
 #include "app/cli/synthetic_crop.h"
 #include "dataset/error.h"
 #include "engine/vk/context.h"
@@ -30,26 +31,12 @@ struct BenchTrainArgs {
     DeviceOptions device;
 };
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
 void run_bench_train(const BenchTrainArgs& a) {
     if (a.points < 16) throw data::InputError("--points", "must be at least 16");
     if (a.clouds < 1) throw data::InputError("--clouds", "must be at least 1");
     if (a.repeats < 1) throw data::InputError("--repeats", "must be at least 1");
     nn::Ptv3Config config;
-    try {
-        config = nn::Ptv3Config::named(a.config);
-    } catch (const std::invalid_argument&) {
-        try {
-            config = nn::Ptv3Weights::config_of(nn::SafeTensors::load(a.config));
-        } catch (const nn::FormatError& e) {
-            throw data::InputError("--config", e.what());
-        }
-    }
+    config = ptv3_config_arg(a.config, "--config");
     vk::ContextOptions co;
     co.device = a.device.device;
     co.quiet = a.json;

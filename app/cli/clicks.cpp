@@ -141,12 +141,7 @@ void run_clicks(const ClicksArgs& a) {
     o.sigma = a.sigma;
     o.scale = a.scale;
     o.seed = a.seed;
-    if (!a.roi.empty()) {
-        char extra;
-        if (std::sscanf(a.roi.c_str(), "%lf,%lf%c", &o.roi_length, &o.roi_width, &extra) != 2 ||
-            !(o.roi_length > 0 && o.roi_width > 0))
-            throw data::InputError("--roi", "expected length,width > 0, got '" + a.roi + "'");
-    }
+    if (!a.roi.empty()) parse_roi(a.roi, o.roi_length, o.roi_width);
     if (a.up != "cameras" && a.up != "ground") parse_up(a.up);
 
     vk::ContextOptions co;

@@ -1,4 +1,5 @@
 #pragma once
+#include <algorithm>
 // Each subcommand registers itself on the CLI11 app; one file per subcommand.
 #include <functional>
 #include <string>
@@ -30,6 +31,17 @@ void register_bench_ptv3(CLI::App& bench, std::function<void()>& run);
 void register_bench_train(CLI::App& bench, std::function<void()>& run);
 void register_infer(CLI::App& app, std::function<void()>& run);
 void register_clicks(CLI::App& app, std::function<void()>& run);
+
+// The median (mean of the middle two for an even count); 0 for none. Benchmarks report medians.
+inline double median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// "L,W" (both > 0) -> the ROI length and width; InputError naming --roi otherwise.
+void parse_roi(const std::string& spec, double& length, double& width);
 
 // "-y", "z", or "x,y,z" -> a unit vector; InputError naming --up otherwise.
 glm::dvec3 parse_up(const std::string& s);

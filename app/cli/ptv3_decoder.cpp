@@ -23,6 +23,18 @@ std::string default_model_path() {
     return fs::exists(source) ? source.string() : std::string();
 }
 
+nn::Ptv3Config ptv3_config_arg(const std::string& arg, const char* option) {
+    try {
+        return nn::Ptv3Config::named(arg);
+    } catch (const std::invalid_argument&) {
+    }
+    try {
+        return nn::Ptv3Weights::config_of(nn::SafeTensors::load(arg));
+    } catch (const nn::FormatError& e) {
+        throw data::InputError(option, std::string(e.what()) + " (and it is not tiny, small or paper)");
+    }
+}
+
 Ptv3Decoder::Ptv3Decoder(vk::Context& ctx, const std::string& model_path)
     : path_(model_path), pool_(nn::Pool::create(ctx)) {
     try {

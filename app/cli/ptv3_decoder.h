@@ -14,6 +14,10 @@ namespace pg::app {
 // path it was built from). Empty if none exists.
 std::string default_model_path();
 
+// A config argument: tiny / small / paper, or a model file whose config to take. InputError
+// naming `option` otherwise.
+nn::Ptv3Config ptv3_config_arg(const std::string& arg, const char* option);
+
 class Ptv3Decoder : public seg::Decoder {
 public:
     Ptv3Decoder(vk::Context& ctx, const std::string& model_path);

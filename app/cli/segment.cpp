@@ -50,6 +50,18 @@ std::string safe_file_name(std::string name) {
     return name.empty() ? "object" : name;
 }
 
+void run_segment(const SegmentArgs& args);
+
+}  // namespace
+
+void parse_roi(const std::string& spec, double& length, double& width) {
+    char extra;
+    if (std::sscanf(spec.c_str(), "%lf,%lf%c", &length, &width, &extra) != 2 || !(length > 0 && width > 0))
+        throw data::InputError("--roi", "expected length,width > 0, got '" + spec + "'");
+}
+
+namespace {
+
 void run_segment(const SegmentArgs& args) {
     auto total_start = std::chrono::steady_clock::now();
     SegmentArgs a = args;
@@ -72,12 +84,7 @@ void run_segment(const SegmentArgs& args) {
     o.sigma = a.sigma;
     o.scale = a.scale;
     o.seed = a.seed;
-    if (!a.roi.empty()) {
-        char extra;
-        if (std::sscanf(a.roi.c_str(), "%lf,%lf%c", &o.roi_length, &o.roi_width, &extra) != 2 ||
-            !(o.roi_length > 0 && o.roi_width > 0))
-            throw data::InputError("--roi", "expected length,width > 0, got '" + a.roi + "'");
-    }
+    if (!a.roi.empty()) parse_roi(a.roi, o.roi_length, o.roi_width);
     auto gt = cloud.int_property(a.label_property);
     if (ground_truth && !gt)
         throw data::InputError(a.scene, "has no integer property '" + a.label_property +

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
+#include "app/cli/ptv3_decoder.h"
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
 #include "dataset/random.h"
@@ -131,15 +132,7 @@ void run_train(const TrainArgs& a) {
         }
         config = ckpt->config;
     } else {
-        try {
-            config = nn::Ptv3Config::named(a.config);
-        } catch (const std::invalid_argument&) {
-            try {
-                config = nn::Ptv3Weights::config_of(nn::SafeTensors::load(a.config));
-            } catch (const nn::FormatError& e) {
-                throw data::InputError("--config", e.what());
-            }
-        }
+        config = ptv3_config_arg(a.config, "--config");
         config.in_channels = 2;
         config.num_classes = 2;
         config.input_frame = "roi";

@@ -22,13 +22,6 @@ namespace {
 constexpr float kBatchNormEps = 1e-3f;
 constexpr float kLayerNormEps = 1e-5f;
 
-// A tensor viewed with another shape (same buffer), e.g. conv weights [O,k,k,k,I] as [O, k^3 I].
-Tensor reshaped(const Tensor& t, std::vector<int64_t> shape) {
-    Tensor r = t;
-    r.shape = std::move(shape);
-    return r;
-}
-
 }  // namespace
 
 std::vector<int32_t> Ptv3::grid_coords(const std::vector<float>& coord, double grid_size) {

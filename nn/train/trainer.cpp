@@ -21,12 +21,6 @@ namespace {
 constexpr float kBatchNormEps = 1e-3f;
 constexpr float kLayerNormEps = 1e-5f;
 
-Tensor reshaped(const Tensor& t, std::vector<int64_t> shape) {
-    Tensor r = t;
-    r.shape = std::move(shape);
-    return r;
-}
-
 // torch.linspace(0, rate, count) as Pointcept spaces drop path rates over blocks.
 std::vector<double> linspace(double rate, int count) {
     std::vector<double> v(size_t(std::max(count, 0)));
