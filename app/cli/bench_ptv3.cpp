@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
+#include "app/cli/pass_families.h"
 #include "app/cli/point_file.h"
 #include "app/cli/progress.h"
 #include "app/cli/synthetic_crop.h"
@@ -66,9 +67,8 @@ void run_bench_ptv3(const BenchPtv3Args& a) {
     }
     in.count_conv_pairs = true;
 
-    std::vector<std::string> families;
-    std::map<std::string, std::vector<double>> family_ms;
-    std::vector<double> wall, gpu;
+    PassFamilies families;
+    std::vector<double> wall;
     std::map<std::string, double> flops;
     std::vector<int64_t> level_points;
     uint64_t peak = 0;
@@ -86,22 +86,13 @@ void run_bench_ptv3(const BenchPtv3Args& a) {
         }
         peak = std::max(peak, pool->peak_bytes());
         if (r < a.warmup) continue;
-        std::map<std::string, double> sum;
-        double total = 0;
-        for (const auto& p : out.passes) {
-            if (!sum.count(p.name) && std::find(families.begin(), families.end(), p.name) == families.end())
-                families.push_back(p.name);
-            sum[p.name] += p.ms;
-            total += p.ms;
-        }
-        for (const auto& f : families) family_ms[f].push_back(sum[f]);
+        families.add(out.passes);
         wall.push_back(ms);
-        gpu.push_back(total);
     }
     progress.finish();
     double total_flops = 0;
     for (const auto& [k, v] : flops) total_flops += v;
-    const double wall_med = median(wall), gpu_med = median(gpu);
+    const double wall_med = median(wall), gpu_med = families.median_total();
     const double weights_mb = double(params) * 4 / 1048576.0;
 
     if (a.json) {
@@ -112,7 +103,7 @@ void run_bench_ptv3(const BenchPtv3Args& a) {
         j["points"] = in.size();
         j["level_points"] = level_points;
         j["repeats"] = a.repeats;
-        for (const auto& f : families) j["family_ms"][f] = median(family_ms[f]);
+        for (const auto& f : families.names) j["family_ms"][f] = families.median_ms(f);
         j["gpu_ms"] = gpu_med;
         j["wall_ms"] = wall_med;
         j["gflop"] = total_flops * 1e-9;
@@ -127,8 +118,8 @@ void run_bench_ptv3(const BenchPtv3Args& a) {
                 params, in.size());
     for (auto n : level_points) std::printf(" %lld", (long long)n);
     std::printf("\nmedian of %d runs\n\n%-12s %10s %7s\n", a.repeats, "ops", "GPU ms", "share");
-    for (const auto& f : families) {
-        const double m = median(family_ms[f]);
+    for (const auto& f : families.names) {
+        const double m = families.median_ms(f);
         std::printf("%-12s %10.2f %6.1f%%\n", f.c_str(), m, 100 * m / std::max(gpu_med, 1e-9));
     }
     std::printf("%-12s %10.2f\n%-12s %10.2f\n\n", "GPU total", gpu_med, "wall", wall_med);

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
+#include "app/cli/pass_families.h"
 #include "app/cli/progress.h"
 #include "app/cli/ptv3_decoder.h"
 #include "app/cli/synthetic_crop.h"
@@ -56,9 +57,8 @@ void run_bench_train(const BenchTrainArgs& a) {
     }
     uint64_t weights_bytes = 0;  // weights, running statistics and AdamW moments: live between steps
 
-    std::vector<std::string> families;
-    std::map<std::string, std::vector<double>> family_ms;
-    std::vector<double> wall, gpu;
+    PassFamilies families;
+    std::vector<double> wall;
     uint64_t peak = 0;
     Progress progress("bench train", size_t(a.warmup + a.repeats));
     for (int r = 0; r < a.warmup + a.repeats; ++r) {
@@ -70,20 +70,12 @@ void run_bench_train(const BenchTrainArgs& a) {
         progress.step();
         peak = std::max(peak, pool->peak_bytes());
         if (r < a.warmup) continue;
-        std::map<std::string, double> sum;
-        double total = 0;
-        for (const auto& p : out.passes) {
-            if (std::find(families.begin(), families.end(), p.name) == families.end()) families.push_back(p.name);
-            sum[p.name] += p.ms;
-            total += p.ms;
-        }
-        for (const auto& f : families) family_ms[f].push_back(sum[f]);
+        families.add(out.passes);
         wall.push_back(ms);
-        gpu.push_back(total);
     }
     progress.finish();
-    std::sort(families.begin(), families.end());
-    const double wall_med = median(wall), gpu_med = median(gpu);
+    std::sort(families.names.begin(), families.names.end());
+    const double wall_med = median(wall), gpu_med = families.median_total();
     const long long params = trainer.weights().parameter_count();
     const double mib = 1.0 / 1048576.0;
     if (a.json) {
@@ -94,7 +86,7 @@ void run_bench_train(const BenchTrainArgs& a) {
         j["points_per_cloud"] = a.points;
         j["clouds"] = a.clouds;
         j["repeats"] = a.repeats;
-        for (const auto& f : families) j["family_ms"][f] = median(family_ms[f]);
+        for (const auto& f : families.names) j["family_ms"][f] = families.median_ms(f);
         j["gpu_ms"] = gpu_med;
         j["step_ms"] = wall_med;
         j["steps_per_s"] = 1000.0 / wall_med;
@@ -106,8 +98,8 @@ void run_bench_train(const BenchTrainArgs& a) {
     std::printf("device: %s\nconfig: %s (%lld parameters), %d cloud(s) x %d points, median of %d steps\n\n", ctx.info().name.c_str(),
                 a.config.c_str(), params, a.clouds, a.points, a.repeats);
     std::printf("%-16s %10s %7s\n", "ops", "GPU ms", "share");
-    for (const auto& f : families) {
-        const double m = median(family_ms[f]);
+    for (const auto& f : families.names) {
+        const double m = families.median_ms(f);
         std::printf("%-16s %10.2f %6.1f%%\n", f.c_str(), m, 100 * m / std::max(gpu_med, 1e-9));
     }
     std::printf("%-16s %10.2f\n%-16s %10.2f\n\n", "GPU total", gpu_med, "step wall", wall_med);

@@ -15,6 +15,7 @@
 #include "app/cli/commands.h"
 #include "app/cli/ptv3_decoder.h"
 #include "dataset/atomic_file.h"
+#include "dataset/clicks/mask.h"
 #include "dataset/error.h"
 #include "dataset/random.h"
 #include "dataset/train/sample_drawer.h"
@@ -78,15 +79,6 @@ std::vector<uint8_t> predict(nn::Ptv3& model, const data::train::Sample& s) {
     return mask;
 }
 
-double iou(const std::vector<uint8_t>& pred, const std::vector<int32_t>& labels) {
-    size_t inter = 0, uni = 0;
-    for (size_t i = 0; i < labels.size(); ++i) {
-        inter += pred[i] && labels[i] == 1;
-        uni += pred[i] || labels[i] == 1;
-    }
-    return uni ? double(inter) / double(uni) : 1.0;
-}
-
 struct Validation {
     double iou1 = 0, iou3 = 0;  // mean IoU after the first click and after two more
 };
@@ -97,10 +89,11 @@ Validation validate(nn::Pool& pool, const nn::Ptv3Weights& weights, const data::
     nn::Ptv3 model(pool, weights);
     Validation v;
     for (auto& s : samples) {
+        const data::clicks::Mask object = data::clicks::mask_of(s.labels, 1);
         auto pred = predict(model, s);
-        v.iou1 += iou(pred, s.labels);
+        v.iou1 += data::clicks::iou(object, pred);
         for (int k = 0; k < 2 && drawer.add_click(s, pred); ++k) pred = predict(model, s);
-        v.iou3 += iou(pred, s.labels);
+        v.iou3 += data::clicks::iou(object, pred);
     }
     v.iou1 /= double(std::max<size_t>(samples.size(), 1));
     v.iou3 /= double(std::max<size_t>(samples.size(), 1));
