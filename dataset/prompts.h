@@ -22,6 +22,7 @@ struct PromptClick {
     double u = 0, v = 0;              // pixel (column, row) of `view`
     std::optional<glm::dvec3> point;  // a click given directly in 3D
     bool positive = true;
+    bool operator==(const PromptClick&) const = default;
 };
 
 struct ObjectPrompt {

@@ -12,7 +12,7 @@
 #include "app/cli/commands.h"
 #include "app/cli/pass_families.h"
 #include "app/cli/progress.h"
-#include "app/cli/ptv3_decoder.h"
+#include "app/common/ptv3_decoder.h"
 #include "app/cli/synthetic_crop.h"
 #include "dataset/error.h"
 #include "engine/vk/context.h"

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "app/cli/commands.h"
+#include "app/common/up_arg.h"
 #include "dataset/camera_io.h"
 #include "dataset/error.h"
 #include "dataset/orbit.h"
@@ -11,18 +12,6 @@
 namespace pg::app {
 
 namespace fs = std::filesystem;
-
-glm::dvec3 parse_up(const std::string& s) {
-    static const std::pair<const char*, glm::dvec3> named[] = {
-        {"x", {1, 0, 0}}, {"-x", {-1, 0, 0}}, {"y", {0, 1, 0}}, {"-y", {0, -1, 0}}, {"z", {0, 0, 1}}, {"-z", {0, 0, -1}}};
-    for (auto& [n, v] : named)
-        if (s == n) return v;
-    glm::dvec3 v;
-    char extra;
-    if (std::sscanf(s.c_str(), "%lf,%lf,%lf%c", &v.x, &v.y, &v.z, &extra) != 3 || !(glm::length(v) > 0))
-        throw data::InputError("--up", "expected x,y,z or one of x -x y -y z -z, got '" + s + "'");
-    return glm::normalize(v);
-}
 
 namespace {
 

@@ -15,7 +15,8 @@
 
 #include "app/cli/commands.h"
 #include "app/cli/progress.h"
-#include "app/cli/ptv3_decoder.h"
+#include "app/common/ptv3_decoder.h"
+#include "app/common/up_arg.h"
 #include "dataset/atomic_file.h"
 #include "dataset/camera_io.h"
 #include "dataset/clicks/session.h"
@@ -90,12 +91,6 @@ fs::path camera_file(const fs::path& scene_dir) {
     if (fs::exists(scene_dir / "cameras.json")) return scene_dir / "cameras.json";
     if (fs::is_directory(scene_dir / "sparse" / "0")) return scene_dir / "sparse" / "0";
     throw data::InputError(scene_dir.string(), "holds neither cameras.json nor sparse/0");
-}
-
-glm::dvec3 resolve_up(const std::string& spec, const std::vector<data::Camera>& cams, const data::GaussianCloud& cloud) {
-    if (spec == "cameras") return data::up_from_cameras(cams);
-    if (spec == "ground") return data::up_from_ground_plane(cloud);
-    return parse_up(spec);
 }
 
 // The objects of a scene: its non-zero label values, ascending; names from meta.json

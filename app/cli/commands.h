@@ -43,9 +43,6 @@ inline double median(std::vector<double> v) {
 // "L,W" (both > 0) -> the ROI length and width; InputError naming --roi otherwise.
 void parse_roi(const std::string& spec, double& length, double& width);
 
-// "-y", "z", or "x,y,z" -> a unit vector; InputError naming --up otherwise.
-glm::dvec3 parse_up(const std::string& s);
-
 // "all" or a comma list of indices or camera names -> indices into `cameras`.
 std::vector<size_t> select_views(const std::string& spec, const std::vector<data::Camera>& cameras);
 

@@ -7,19 +7,17 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
-#include "app/cli/ptv3_decoder.h"
 #include "app/cli/progress.h"
+#include "app/common/ptv3_decoder.h"
+#include "app/common/up_arg.h"
 #include "dataset/atomic_file.h"
 #include "dataset/camera_io.h"
-#include "dataset/cloud_select.h"
 #include "dataset/error.h"
-#include "dataset/image_io.h"
 #include "dataset/prompts.h"
 #include "dataset/scene_io.h"
 #include "dataset/up_axis.h"
+#include "engine/segment/export.h"
 #include "engine/segment/label_raster.h"
-#include "engine/segment/mask_refine.h"
-#include "engine/segment/mask_views.h"
 #include "engine/segment/segmenter.h"
 #include "engine/vk/context.h"
 
@@ -37,18 +35,6 @@ struct SegmentArgs {
     uint64_t seed = 1;
     DeviceOptions device;
 };
-
-glm::dvec3 resolve_up(const std::string& spec, const std::vector<data::Camera>& cams, const data::GaussianCloud& cloud) {
-    if (spec == "cameras") return data::up_from_cameras(cams);
-    if (spec == "ground") return data::up_from_ground_plane(cloud);
-    return parse_up(spec);
-}
-
-std::string safe_file_name(std::string name) {
-    for (char& c : name)
-        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.')) c = '_';
-    return name.empty() ? "object" : name;
-}
 
 void run_segment(const SegmentArgs& args);
 
@@ -92,6 +78,7 @@ void run_segment(const SegmentArgs& args) {
 
     fs::path out(a.out);
     if (fs::exists(out) && !fs::is_directory(out)) throw data::InputError(a.out, "exists and is not a folder");
+    for (const char* f : {"scene.ply", "report.json"}) seg::refuse_overwriting(out / f, {a.scene, a.cameras, a.prompts});
     fs::create_directories(out);
 
     vk::ContextOptions co;
@@ -123,35 +110,25 @@ void run_segment(const SegmentArgs& args) {
 
     // 3D outputs: the scene with the labels, one standard 3DGS PLY per object.
     auto t0 = std::chrono::steady_clock::now();
-    data::GaussianCloud labelled = cloud;
-    labelled.set_int_property("instance", result.labels);
-    data::write_ply(labelled, out / "scene.ply");
-    fs::create_directories(out / "objects");
-    for (auto& obj : result.objects) {
-        std::vector<uint32_t> idx;
-        for (uint32_t i = 0; i < result.labels.size(); ++i)
-            if (result.labels[i] == obj.id) idx.push_back(i);
-        data::write_ply(data::select_gaussians(cloud, idx), out / "objects" / (safe_file_name(obj.name) + ".ply"));
-    }
+    seg::write_labelled_scene(cloud, result.labels, out / "scene.ply");
+    std::vector<seg::ExportObject> objects;
+    for (auto& obj : result.objects) objects.push_back({obj.id, obj.name});
+    seg::write_object_plys(cloud, result.labels, objects, out / "objects");
     result.stage_ms["write 3D"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
     // 2D outputs: label rasterization and refinement on the GPU for every chosen view.
     if (!views.empty()) {
-        seg::MaskViewsOptions mo;
-        mo.mode = mode;
-        mo.refine = !a.no_refine;
-        seg::MaskViews masker(ctx, scene, result.labels);
-        fs::create_directories(out / "masks");
-        fs::create_directories(out / "overlays");
+        seg::ViewExportOptions vo;
+        vo.masks.mode = mode;
+        vo.masks.refine = !a.no_refine;
         Progress progress("masks", views.size());
-        for (size_t v : views) {
-            auto m = masker.render(cameras[v], mo);
-            data::write_png16(out / "masks" / (cameras[v].name + ".png"), m.width, m.height, m.mask16());
-            data::write_png8(out / "overlays" / (cameras[v].name + ".png"), m.width, m.height, 3, m.overlay());
-            progress.step(cameras[v].name);
-        }
+        vo.progress = [&](size_t, const std::string& view) {
+            progress.step(view);
+            return true;
+        };
+        for (auto& [name, ms] : seg::write_view_masks(ctx, scene, result.labels, cameras, views, out, vo))
+            result.stage_ms[name] += ms;
         progress.finish();
-        for (auto& [name, ms] : masker.stage_ms()) result.stage_ms[name] += ms;
         report["views"] = views.size();
     }
     for (auto& [name, ms] : result.stage_ms) report["stage_ms"][name] = ms;

@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
-#include "app/cli/ptv3_decoder.h"
+#include "app/common/ptv3_decoder.h"
 #include "dataset/atomic_file.h"
 #include "dataset/clicks/mask.h"
 #include "dataset/error.h"

@@ -17,7 +17,7 @@ struct ArgsPush {
 };
 
 gpu::FrameParams frame_params(const data::Camera& cam, const RenderSettings& s, uint32_t count, uint32_t sh_floats,
-                              int sh_degree, uint32_t capacity, uint32_t group_limit) {
+                              int sh_degree, uint32_t capacity, uint32_t group_limit, uint32_t palette_size) {
     gpu::FrameParams f{};
     glm::dmat4 view = cam.world_to_camera();
     f.view = glm::mat4(view);
@@ -30,8 +30,21 @@ gpu::FrameParams frame_params(const data::Camera& cam, const RenderSettings& s, 
     f.size = glm::uvec4(cam.width, cam.height, tiles_x, tiles_y);
     f.scene = glm::uvec4(count, sh_floats, uint32_t(std::clamp(std::min(sh_degree, s.max_sh_degree), 0, 3)),
                          s.antialiased ? 1u : 0u);
-    f.capacity = glm::uvec4(capacity, group_limit, 0, 0);
+    f.capacity = glm::uvec4(capacity, group_limit, palette_size, 0);
     return f;
+}
+
+void check_style(const RenderStyle& style, uint32_t count) {
+    if (!style.labels || !style.palette || style.palette_size == 0)
+        throw std::invalid_argument("render style needs a labels buffer, a palette buffer and a palette size > 0");
+    if (style.labels->size() < uint64_t(count) * 4)
+        throw std::invalid_argument("render style labels buffer '" + style.labels->name() + "' holds " +
+                                    std::to_string(style.labels->size()) + " bytes, fewer than one int32 for each of " +
+                                    std::to_string(count) + " Gaussians");
+    if (style.palette->size() < uint64_t(style.palette_size) * 16)
+        throw std::invalid_argument("render style palette buffer '" + style.palette->name() + "' holds " +
+                                    std::to_string(style.palette->size()) + " bytes, fewer than " +
+                                    std::to_string(style.palette_size) + " vec4 entries");
 }
 
 }  // namespace
@@ -43,9 +56,11 @@ Renderer::Renderer(vk::Context& ctx)
       sort_(ctx),
       frame_(ctx, sizeof(gpu::FrameParams), vk::MemoryUse::Device, "frame params"),
       counters_(ctx, 16, vk::MemoryUse::Device, "render counters"),
-      args_(ctx, 16, vk::MemoryUse::Device, "render indirect args") {}
+      args_(ctx, 16, vk::MemoryUse::Device, "render indirect args"),
+      no_style_(ctx, 16, vk::MemoryUse::Device, "no render style") {}
 
-void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, const RenderSettings& settings) {
+void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, const RenderSettings& settings,
+                      const RenderStyle* style) {
     data::Camera camera = camera_in;
     if (settings.width > 0 && settings.height > 0) camera = camera_in.resized(settings.width, settings.height);
     if (camera.width <= 0 || camera.height <= 0 || camera.width > 16384 || camera.height > 16384)
@@ -58,6 +73,10 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     const uint32_t tiles_y = (uint32_t(height_) + gpu::kTileSize - 1) / gpu::kTileSize;
     const uint32_t tiles = tiles_x * tiles_y;
     const uint64_t pixels = uint64_t(width_) * uint64_t(height_);
+    if (style) check_style(*style, n);
+    const vk::Buffer& labels = style ? *style->labels : no_style_;
+    const vk::Buffer& palette = style ? *style->palette : no_style_;
+    const uint32_t palette_size = style ? style->palette_size : 0;
 
     if (!splats_.valid()) {
         splats_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "splats");
@@ -91,11 +110,12 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     for (;;) {
         keys_.ensure(uint64_t(capacity_) * 4);
         values_.ensure(uint64_t(capacity_) * 4);
-        auto params = frame_params(camera, settings, n, scene.sh_floats(), scene.sh_degree(), capacity_, group_limit);
+        auto params = frame_params(camera, settings, n, scene.sh_floats(), scene.sh_degree(), capacity_, group_limit,
+                                   palette_size);
         cmd_.update(frame_, &params, sizeof(params));
         cmd_.begin_pass("preprocess");
         cmd_.dispatch("render/preprocess", {frame_, scene.means, scene.shapes, scene.sh, splats_, touched_, rects_,
-                                            depth_keys_, order_},
+                                            depth_keys_, order_, labels, palette},
                       (n + 255) / 256);
         // Two stable sorts give the tile-major, front-to-back order of a 64-bit tile|depth sort
         // with about half the work: Gaussians by depth once, then keys by tile id alone.

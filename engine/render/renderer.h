@@ -25,6 +25,14 @@ struct RenderSettings {
     float near = 0.2f;
 };
 
+// An optional per-Gaussian look for viewers: each Gaussian's label picks a palette entry whose
+// rgb is mixed into its colour by a (0: untouched, 1: flat colour); a < 0 hides the Gaussian.
+struct RenderStyle {
+    const vk::Buffer* labels = nullptr;   // int32 per Gaussian (0: unlabelled)
+    const vk::Buffer* palette = nullptr;  // vec4 per label: rgb, a
+    uint32_t palette_size = 0;            // labels < 0 or >= palette_size use palette[0]
+};
+
 // Host copies of a frame's outputs; pixels row-major, top row first.
 struct RenderImages {
     int width = 0, height = 0;
@@ -40,7 +48,8 @@ public:
     explicit Renderer(vk::Context& ctx);
 
     // Renders one frame on the GPU and waits for it; outputs stay on the device until read().
-    void render(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings);
+    void render(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings,
+                const RenderStyle* style = nullptr);
     RenderImages read() const;
 
     vk::Context& context() const { return ctx_; }
@@ -67,6 +76,7 @@ private:
     sort::RadixSort sort_;
     vk::Buffer frame_, splats_, touched_, offsets_, rects_, counters_, args_, keys_, values_, ranges_, image_, aux_;
     vk::Buffer depth_keys_, order_, touched_sorted_;
+    vk::Buffer no_style_;  // bound as labels and palette when a frame has no style
     uint32_t capacity_ = 0, key_count_ = 0;
     int width_ = 0, height_ = 0, retries_ = 0;
     std::vector<vk::PassTiming> timings_;

@@ -13,7 +13,11 @@ std::vector<uint16_t> ViewMask::mask16() const {
     return m;
 }
 
-std::vector<uint8_t> ViewMask::overlay() const {
+glm::vec3 ViewMask::default_colour(uint32_t label) {
+    return glm::vec3(data::synth::mask_colour(uint16_t(std::min<uint32_t>(label, 65535u)))) / 255.0f;
+}
+
+std::vector<uint8_t> ViewMask::overlay(const std::function<glm::vec3(uint32_t)>& colour) const {
     std::vector<uint8_t> px(size_t(width) * height * 3);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
@@ -22,7 +26,7 @@ std::vector<uint8_t> ViewMask::overlay() const {
             glm::vec3 rgb(rgba[p * 4], rgba[p * 4 + 1], rgba[p * 4 + 2]);
             rgb = glm::clamp(rgb, 0.0f, 1.0f);
             if (l != 0) {
-                glm::vec3 c = glm::vec3(data::synth::mask_colour(uint16_t(std::min<uint32_t>(l, 65535u)))) / 255.0f;
+                const glm::vec3 c = colour(l);
                 bool edge = (x > 0 && labels[p - 1] != l) || (x + 1 < width && labels[p + 1] != l) ||
                             (y > 0 && labels[p - width] != l) || (y + 1 < height && labels[p + width] != l);
                 rgb = edge ? c : 0.45f * rgb + 0.55f * c;

@@ -1,6 +1,7 @@
 #pragma once
 // Per-view 2D masks from 3D labels: render the view (for the binning and the colours),
 // rasterize the labels, refine the mask, all on the GPU; then read the mask back.
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -23,8 +24,9 @@ struct ViewMask {
     std::vector<uint32_t> labels;  // per pixel, row-major
     std::vector<float> rgba;       // the render, for overlays
     std::vector<uint16_t> mask16() const;
-    // The render with each object tinted in its colour and outlined.
-    std::vector<uint8_t> overlay() const;
+    // The render with each object tinted in its colour (rgb in [0, 1]) and outlined; RGB8.
+    std::vector<uint8_t> overlay(const std::function<glm::vec3(uint32_t)>& colour = default_colour) const;
+    static glm::vec3 default_colour(uint32_t label);
 };
 
 class MaskViews {

@@ -1,6 +1,7 @@
 #include "engine/vk/commands.h"
 
 #include <algorithm>
+#include <mutex>
 #include <stdexcept>
 
 #include "engine/vk/check.h"
@@ -198,7 +199,10 @@ void CommandList::submit_and_wait() {
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     si.commandBufferCount = 1;
     si.pCommandBuffers = &cmd_;
-    PG_VK(vkQueueSubmit(ctx_.queue(), 1, &si, fence_));
+    {
+        std::lock_guard lock(ctx_.queue_mutex());
+        PG_VK(vkQueueSubmit(ctx_.queue(), 1, &si, fence_));
+    }
     PG_VK(vkWaitForFences(ctx_.device(), 1, &fence_, VK_TRUE, UINT64_MAX));
     PG_VK(vkResetFences(ctx_.device(), 1, &fence_));
 

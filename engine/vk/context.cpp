@@ -100,6 +100,7 @@ void Context::create_instance(bool validation) {
     app.apiVersion = VK_API_VERSION_1_2;
 
     std::vector<const char*> layers, extensions;
+    for (auto& e : options_.instance_extensions) extensions.push_back(e.c_str());
     if (validation) {
         uint32_t n = 0;
         vkEnumerateInstanceLayerProperties(&n, nullptr);
@@ -182,6 +183,8 @@ void Context::pick_device(const std::string& wanted) {
         vkGetPhysicalDeviceProperties(pd, &p);
         names += std::string(names.empty() ? "" : ", ") + p.deviceName;
         if (p.apiVersion < VK_API_VERSION_1_2 || !has_extension(pd, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) continue;
+        if (options_.can_present && (!has_extension(pd, VK_KHR_SWAPCHAIN_EXTENSION_NAME) || present_family(pd) < 0))
+            continue;
         usable.push_back({pd, p});
     }
     if (!wanted.empty()) {
@@ -193,7 +196,9 @@ void Context::pick_device(const std::string& wanted) {
         physical_ = it->first;
     } else {
         if (usable.empty())
-            throw std::runtime_error("no device supports Vulkan 1.2 with VK_KHR_push_descriptor (have: " + names + ")");
+            throw std::runtime_error(std::string("no device supports Vulkan 1.2 with VK_KHR_push_descriptor") +
+                                     (options_.can_present ? " and presents to this window" : "") + " (have: " +
+                                     names + ")");
         std::stable_sort(usable.begin(), usable.end(),
                          [](auto& a, auto& b) { return type_rank(a.second.deviceType) < type_rank(b.second.deviceType); });
         physical_ = usable.front().first;
@@ -240,8 +245,8 @@ void Context::create_device() {
     std::vector<VkQueueFamilyProperties> fams(n);
     vkGetPhysicalDeviceQueueFamilyProperties(physical_, &n, fams.data());
     // Prefer a compute queue that also does graphics: it is the one with timestamps everywhere.
-    int best = -1;
-    for (uint32_t i = 0; i < n; ++i) {
+    int best = options_.can_present ? present_family(physical_) : -1;
+    for (uint32_t i = 0; i < n && !options_.can_present; ++i) {
         if (!(fams[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
         if (best < 0 || (fams[i].queueFlags & VK_QUEUE_GRAPHICS_BIT)) best = int(i);
         if (fams[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) break;
@@ -271,18 +276,30 @@ void Context::create_device() {
     v12.shaderInt8 = v12_supported.shaderInt8;
     features.pNext = &v12;
 
-    const char* exts[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    std::vector<const char*> exts{VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    if (options_.can_present) exts.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
     VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     dci.pNext = &features;
     dci.queueCreateInfoCount = 1;
     dci.pQueueCreateInfos = &qci;
-    dci.enabledExtensionCount = 1;
-    dci.ppEnabledExtensionNames = exts;
+    dci.enabledExtensionCount = uint32_t(exts.size());
+    dci.ppEnabledExtensionNames = exts.data();
     PG_VK(vkCreateDevice(physical_, &dci, nullptr, &device_));
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
     push_descriptor_fn =
         reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
     if (!push_descriptor_fn) throw std::runtime_error("vkCmdPushDescriptorSetKHR missing on " + info_.name);
+}
+
+int Context::present_family(VkPhysicalDevice pd) const {
+    uint32_t n = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
+    std::vector<VkQueueFamilyProperties> fams(n);
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, fams.data());
+    const VkQueueFlags needed = VK_QUEUE_COMPUTE_BIT | VK_QUEUE_GRAPHICS_BIT;
+    for (uint32_t i = 0; i < n; ++i)
+        if ((fams[i].queueFlags & needed) == needed && options_.can_present(instance_, pd, i)) return int(i);
+    return -1;
 }
 
 uint32_t Context::max_group_count_x() const {

@@ -2,6 +2,7 @@
 // The Vulkan instance, the chosen device and its compute queue: no window system needed.
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -20,6 +21,10 @@ struct ContextOptions {
     bool quiet = false;       // do not print the chosen device
     // Tests lower this to exercise dispatch splitting cheaply; 0 = the device's limit.
     uint32_t max_group_count_override = 0;
+    // For a window (the viewer): extra instance extensions (GLFW's), and a test of whether a
+    // queue family can present; the device then also needs VK_KHR_swapchain.
+    std::vector<std::string> instance_extensions;
+    std::function<bool(VkInstance, VkPhysicalDevice, uint32_t family)> can_present;
 };
 
 struct DeviceInfo {
@@ -60,15 +65,23 @@ public:
     // Pipelines are built once per shader name and kept for the context's life.
     ComputePipeline& pipeline(const std::string& shader, uint32_t buffer_count, uint32_t push_bytes);
 
+    // The queue is shared by every thread (the viewer renders and segments at once): hold this
+    // around vkQueueSubmit and vkQueuePresentKHR.
+    std::mutex& queue_mutex() { return queue_mutex_; }
+
     // State owned by the context, made on first use by T(Context&) and destroyed before the
     // device: scratch buffers of ops that are free functions (they must outlive the command
     // lists they were recorded into, so they cannot be locals).
     template <class T> T& attachment(const std::string& key) {
+        std::lock_guard lock(attachments_mutex_);
         auto& slot = attachments_[key];
         if (!slot) slot = std::make_shared<T>(*this);
         return *static_cast<T*>(slot.get());
     }
-    void detach(const std::string& key) { attachments_.erase(key); }
+    void detach(const std::string& key) {
+        std::lock_guard lock(attachments_mutex_);
+        attachments_.erase(key);
+    }
 
     // Validation messages seen so far (warnings and errors); tests fail when non-zero.
     static uint64_t validation_message_count();
@@ -82,7 +95,10 @@ private:
     void create_instance(bool validation);
     void pick_device(const std::string& wanted);
     void create_device();
+    // A compute + graphics queue family that can present, or -1.
+    int present_family(VkPhysicalDevice pd) const;
 
+    std::mutex attachments_mutex_, queue_mutex_;
     std::map<std::string, std::shared_ptr<void>> attachments_;
     VkInstance instance_ = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;

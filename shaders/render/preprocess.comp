@@ -1,5 +1,6 @@
 #version 450
-// Projects every Gaussian: EWA 2D covariance, opacity-aware extent, tile rectangle, SH colour.
+// Projects every Gaussian: EWA 2D covariance, opacity-aware extent, tile rectangle, SH colour,
+// and the optional style (a palette entry per label that tints the colour or hides the Gaussian).
 #extension GL_GOOGLE_include_directive : require
 #include "common/dispatch.glsl"
 #include "render/render_shared.h"
@@ -16,6 +17,8 @@ layout(std430, binding = 5) writeonly buffer Touched { uint touched[]; };
 layout(std430, binding = 6) writeonly buffer Rects { uvec2 rects[]; };   // tile rect: min | max, 16 bits each
 layout(std430, binding = 7) writeonly buffer DepthKeys { uint depth_keys[]; };  // sorted to order Gaussians
 layout(std430, binding = 8) writeonly buffer Order { uint order[]; };
+layout(std430, binding = 9) readonly buffer Labels { int labels[]; };      // read only with a style
+layout(std430, binding = 10) readonly buffer Palette { vec4 palette[]; };  // rgb, a: tint weight, < 0 hides
 
 void cull(uint i) {
     touched[i] = 0u;
@@ -27,6 +30,15 @@ void main() {
     uint i = pg_global_index();
     if (i >= frame.scene.x) return;
     order[i] = i;
+
+    // A hidden Gaussian leaves exactly like a culled one, so it reaches no output.
+    uint palette_size = frame.capacity.z;
+    vec4 tint = vec4(0.0);
+    if (palette_size != 0u) {
+        int label = labels[i];
+        tint = palette[label >= 0 && uint(label) < palette_size ? uint(label) : 0u];
+        if (tint.a < 0.0) { cull(i); return; }
+    }
 
     vec4 m = means[i];
     vec3 p = (frame.view * vec4(m.xyz, 1.0)).xyz;
@@ -84,6 +96,7 @@ void main() {
     vec3 color;
     PG_EVAL_SH(color, frame.scene.z, dir);
 #undef SH_COEFF
+    if (palette_size != 0u) color = mix(color, tint.rgb, tint.a);
 
     float inv = 1.0 / det;
     Splat sp;

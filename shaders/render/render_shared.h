@@ -36,7 +36,7 @@ struct FrameParams {
     vec4 clip;          // x: near plane, y: tan(fov_x/2), z: tan(fov_y/2), w: unused
     uvec4 size;         // width, height, tiles_x, tiles_y
     uvec4 scene;        // gaussian count, SH floats per Gaussian, SH degree used, antialiased
-    uvec4 capacity;     // x: key capacity, y: device group-count limit
+    uvec4 capacity;     // x: key capacity, y: device group-count limit, z: style palette size (0: no style)
 };
 
 // One projected Gaussian, written by preprocess and read by emit_keys and blend.

@@ -97,6 +97,16 @@ PixelRect support_rect(const ProjectedGaussian& g, int width, int height) {
     return r;
 }
 
+// The palette entry of Gaussian i, or nullptr without a style.
+const glm::vec4* style_entry(const RefOptions& options, size_t i, size_t count) {
+    if (!options.palette) return nullptr;
+    if (options.palette->empty() || !options.labels || options.labels->size() != count)
+        throw std::invalid_argument("RefOptions style needs a non-empty palette and one label per Gaussian");
+    const int32_t label = (*options.labels)[i];
+    const bool known = label >= 0 && size_t(label) < options.palette->size();
+    return &(*options.palette)[known ? size_t(label) : 0];
+}
+
 }  // namespace
 
 bool project_gaussian(const pg::data::GaussianCloud& cloud, size_t i, const pg::data::Camera& camera,
@@ -105,6 +115,10 @@ bool project_gaussian(const pg::data::GaussianCloud& cloud, size_t i, const pg::
     const glm::vec3 t(camera.t);
     const float fx = float(camera.fx), fy = float(camera.fy);
     const float cx = float(camera.cx), cy = float(camera.cy);
+
+    // 0. Style: a hidden Gaussian is culled before anything else.
+    const glm::vec4* style = style_entry(options, i, cloud.size());
+    if (style && style->a < 0.0f) return false;
 
     // 1. View-space position and near-plane cull.
     const glm::vec3 p = W * cloud.mean[i] + t;
@@ -159,6 +173,7 @@ bool project_gaussian(const pg::data::GaussianCloud& cloud, size_t i, const pg::
     const glm::vec3 campos(camera.position());
     const glm::vec3 dir = glm::normalize(cloud.mean[i] - campos);
     out.colour = sh_colour(&cloud.sh[size_t(i) * size_t(cloud.coeffs()) * 3], degree, dir);
+    if (style) out.colour = glm::mix(out.colour, glm::vec3(*style), style->a);
     return true;
 }
 

@@ -19,6 +19,10 @@ struct RefOptions {
     bool antialiased = false;  // Mip-Splatting style opacity compensation of the 0.3 px filter
     int max_sh_degree = 3;
     float near = 0.2f;         // Gaussians with view-space z <= near are culled
+    // Optional style (render::RenderStyle): labels[i] picks a palette entry (labels < 0 or past
+    // the end pick entry 0); colour = mix(colour, rgb, a), and a < 0 culls the Gaussian.
+    const std::vector<int32_t>* labels = nullptr;  // one per Gaussian; needed when palette is set
+    const std::vector<glm::vec4>* palette = nullptr;
 };
 
 // Every buffer is row-major, top row first; rgb holds 3 floats per pixel.
@@ -40,7 +44,7 @@ struct ProjectedGaussian {
     glm::vec3 cov2d{0};     // (a, b, c) after the +0.3 low-pass
     glm::vec3 conic{0};     // inverse of cov2d
     float opacity = 0;      // sigmoid(logit), times the antialiasing factor
-    glm::vec3 colour{0};    // SH evaluated for this camera, clamped below at 0
+    glm::vec3 colour{0};    // SH evaluated for this camera, clamped below at 0, then tinted by the style
 };
 
 // Runs the per-Gaussian stage; culled Gaussians return false.

@@ -1,4 +1,4 @@
-#include "app/cli/ptv3_decoder.h"
+#include "app/common/ptv3_decoder.h"
 
 #include <cmath>
 #include <cstdlib>

@@ -1,0 +1,122 @@
+#include "app/viewer/job_engine.h"
+
+#include <cstdio>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "app/common/ptv3_decoder.h"
+#include "dataset/atomic_file.h"
+#include "dataset/camera_io.h"
+#include "dataset/error.h"
+#include "engine/segment/export.h"
+#include "engine/segment/prompt_encoder.h"
+#include "engine/vk/context.h"
+
+namespace pg::viewer {
+
+namespace fs = std::filesystem;
+
+JobEngine::JobEngine(vk::Context& ctx, const SceneData& scene, const render::GpuScene& gpu_scene)
+    : ctx_(ctx), scene_(scene), gpu_scene_(gpu_scene), lift_renderer_(ctx) {}
+
+seg::Anchor JobEngine::lift(const data::Camera& camera, double u, double v, bool positive) {
+    return seg::lift_click(lift_renderer_, gpu_scene_, camera, u, v, positive, scene_.options.render, "click");
+}
+
+seg::Segmenter& JobEngine::segmenter(const std::string& decoder) {
+    auto& s = segmenters_[decoder];
+    if (!s) {
+        std::unique_ptr<seg::Decoder> d;
+        if (decoder == "ground-truth") {
+            auto labels = scene_.cloud.int_property("instance");
+            if (!labels) throw data::InputError(scene_.scene_path, "has no 'instance' property for the ground-truth decoder");
+            d = std::make_unique<seg::GroundTruthDecoder>(*labels);
+        } else {
+            d = std::make_unique<app::Ptv3Decoder>(ctx_, decoder);
+        }
+        decoders_[decoder] = std::move(d);
+        s = std::make_unique<seg::Segmenter>(ctx_, scene_.cloud, gpu_scene_, scene_.cameras, *decoders_[decoder]);
+    }
+    return *s;
+}
+
+seg::ObjectResult JobEngine::segment(const data::ObjectPrompt& object, size_t k, const std::string& decoder,
+                                     std::map<std::string, double>& stage_ms) {
+    data::Prompts one;
+    one.objects.push_back(object);
+    seg::SegmentOptions o = scene_.options;
+    o.seed = scene_.options.seed + k;  // `segment` partitions object k with seed + k
+    auto result = segmenter(decoder).segment(one, o);
+    stage_ms = result.stage_ms;
+    return std::move(result.objects.front());
+}
+
+void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::atomic<size_t>& total,
+                      const std::atomic<bool>& cancel) {
+    const fs::path out = rq.folder;
+    if (fs::exists(out) && !fs::is_directory(out)) throw data::InputError(out.string(), "exists and is not a folder");
+    fs::create_directories(out);
+    std::vector<fs::path> inputs{scene_.scene_path};
+    if (!scene_.cameras_path.empty()) inputs.push_back(scene_.cameras_path);
+    const auto& labels = *rq.labels;
+    std::vector<seg::ExportObject> objects;
+    std::map<int, glm::vec3> colours;
+    for (auto& o : rq.document.objects) {
+        objects.push_back({o.id, o.name});
+        colours[o.id] = o.colour;
+    }
+    if (rq.scene) {
+        seg::refuse_overwriting(out / "scene.ply", inputs);
+        seg::write_labelled_scene(scene_.cloud, labels, out / "scene.ply");
+    }
+    if (rq.objects) seg::write_object_plys(scene_.cloud, labels, objects, out / "objects");
+    if (rq.prompts) {
+        data::write_prompts(rq.prompts_json, out / "prompts.json");
+        if (scene_.cameras_path.empty()) data::write_inria_cameras_json(scene_.cameras, out / "cameras.json");
+    }
+    std::map<std::string, double> mask_ms;
+    if (rq.masks && !scene_.cameras.empty()) {
+        std::vector<size_t> views(scene_.cameras.size());
+        for (size_t i = 0; i < views.size(); ++i) views[i] = i;
+        total = views.size();
+        seg::ViewExportOptions vo;
+        vo.colour = [&](uint32_t l) { return colours.count(int(l)) ? colours[int(l)] : seg::ViewMask::default_colour(l); };
+        vo.progress = [&](size_t n, const std::string&) {
+            done = n;
+            return !cancel.load();
+        };
+        mask_ms = seg::write_view_masks(ctx_, gpu_scene_, labels, scene_.cameras, views, out, vo);
+    }
+
+    // What `pointgauss segment` needs to replay the prompts exactly.
+    const glm::dvec3 up = scene_.options.up;
+    char up_arg[128];
+    std::snprintf(up_arg, sizeof up_arg, "%.17g,%.17g,%.17g", up.x, up.y, up.z);
+    const std::string cameras = scene_.cameras_path.empty() ? (out / "cameras.json").string() : scene_.cameras_path;
+    std::ostringstream replay;
+    replay << "pointgauss segment " << scene_.scene_path << " --cameras " << cameras << " --prompts "
+           << (out / "prompts.json").string() << " --up " << up_arg << " --model " << rq.decoder << " --out OUT";
+    nlohmann::json report;
+    report["scene"] = scene_.scene_path;
+    report["cameras"] = cameras;
+    report["device"] = ctx_.info().name;
+    report["decoder"] = rq.decoder;
+    report["gaussians"] = scene_.cloud.size();
+    report["up"] = {up.x, up.y, up.z};
+    report["replay"] = replay.str();
+    for (auto& o : rq.document.objects) {
+        size_t n = 0;
+        for (int32_t l : labels) n += l == o.id;
+        report["objects"].push_back({{"id", o.id},
+                                     {"name", o.name},
+                                     {"gaussians", n},
+                                     {"colour", {o.colour.r, o.colour.g, o.colour.b}},
+                                     {"hidden", o.hidden}});
+    }
+    for (auto& [name, ms] : rq.stage_ms) report["stage_ms"][name] = ms;
+    for (auto& [name, ms] : mask_ms) report["stage_ms"][name] = ms;
+    data::write_atomically(out / "report.json", [&](std::ostream& os) { os << report.dump(2) << "\n"; });
+}
+
+}  // namespace pg::viewer

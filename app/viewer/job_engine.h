@@ -1,0 +1,62 @@
+#pragma once
+// The job thread's half of the viewer: lifts clicks to 3D, segments one object at a time
+// through the same Segmenter as `pointgauss segment`, and writes exports.
+#include <atomic>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/viewer/document.h"
+#include "dataset/camera.h"
+#include "dataset/gaussian_cloud.h"
+#include "engine/render/renderer.h"
+#include "engine/segment/segmenter.h"
+
+namespace pg::viewer {
+
+struct SceneData {
+    std::string scene_path, cameras_path;  // cameras_path empty: cameras were generated
+    data::GaussianCloud cloud;
+    std::vector<data::Camera> cameras;
+    seg::SegmentOptions options;           // up, scale, seed: as `segment` would use them
+    std::string up_spec;                   // how the up axis was found
+};
+
+struct ExportRequest {
+    std::filesystem::path folder;
+    bool scene = true, objects = true, masks = true, prompts = true;
+    std::shared_ptr<const std::vector<int32_t>> labels;
+    DocumentState document;
+    data::Prompts prompts_json;
+    std::string decoder;
+    std::map<std::string, double> stage_ms;
+};
+
+class JobEngine {
+public:
+    // `decoders`: name -> model path ("ground-truth" reads the scene's instance property).
+    JobEngine(vk::Context& ctx, const SceneData& scene, const render::GpuScene& gpu_scene);
+
+    // A click at pixel (u, v) of `camera` -> where it lands; InputError when it hits nothing.
+    seg::Anchor lift(const data::Camera& camera, double u, double v, bool positive);
+    // One object's claims, as `segment` computes them for the object at index `k` of prompts.json.
+    seg::ObjectResult segment(const data::ObjectPrompt& object, size_t k, const std::string& decoder,
+                              std::map<std::string, double>& stage_ms);
+    // Writes the chosen outputs; progress counts mask views.
+    void write(const ExportRequest& request, std::atomic<size_t>& done, std::atomic<size_t>& total,
+               const std::atomic<bool>& cancel);
+
+private:
+    seg::Segmenter& segmenter(const std::string& decoder);
+
+    vk::Context& ctx_;
+    const SceneData& scene_;
+    const render::GpuScene& gpu_scene_;
+    render::Renderer lift_renderer_;
+    std::map<std::string, std::unique_ptr<seg::Decoder>> decoders_;
+    std::map<std::string, std::unique_ptr<seg::Segmenter>> segmenters_;
+};
+
+}  // namespace pg::viewer

@@ -1,0 +1,40 @@
+// pointgauss-viewer: click-to-segment in a window, over the same engine as `pointgauss`.
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+
+#include "app/viewer/viewer.h"
+#include "dataset/error.h"
+
+int main(int argc, char** argv) {
+    pg::viewer::ViewerOptions o;
+    CLI::App app{"PointGauss viewer: click objects in a 3DGS scene to segment them"};
+    app.add_option("scene", o.scene, "Scene file (3DGS/2DGS PLY, compressed PLY, .splat, .spz)")->required();
+    app.add_option("--cameras", o.cameras,
+                   "Camera file or COLMAP folder (default: cameras.json, transforms.json or sparse/0 beside the "
+                   "scene; none: an orbit is made)");
+    app.add_option("--model", o.model, "Decoder: a PTv3 model file (default: the shipped model), or ground-truth");
+    app.add_option("--up", o.up, "Up axis: auto (cameras, else ground), cameras, ground, or x,y,z / -y ...")
+        ->capture_default_str();
+    app.add_option("--out", o.out, "Export folder (default: SCENE-segmentation)");
+    app.add_option("--device", o.device, "Vulkan device (substring of its name; default: PG_DEVICE, else the best)");
+    app.add_option("--size", [&o](const std::vector<std::string>& v) {
+        return std::sscanf(v[0].c_str(), "%dx%d", &o.width, &o.height) == 2 && o.width >= 400 && o.height >= 300;
+    }, "Window size WxH (default 1400x860)");
+    app.add_option("--render-scale", o.render_scale, "Picture resolution relative to the window (default: 1 on a "
+                                                     "GPU, 0.5 on a CPU device)");
+    app.add_option("--script", o.script, "Replay actions.json (clicks, UI actions, screenshots), then quit");
+    app.add_option("--screenshot", o.screenshot, "Save the window as PNG once everything has settled, then quit");
+    CLI11_PARSE(app, argc, argv);
+    try {
+        pg::viewer::Viewer viewer(o);
+        return viewer.run();
+    } catch (const pg::data::InputError& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,187 @@
+// The side panel: scene and device, view, objects, export, timings.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include <imgui.h>
+
+#include "app/viewer/viewer.h"
+
+namespace pg::viewer {
+
+namespace {
+
+std::string short_name(const std::string& path) {
+    const std::string name = std::filesystem::path(path).filename().string();
+    return name.empty() ? path : name;
+}
+
+void timing_row(const char* name, double ms) { ImGui::Text("%-22s %9.1f ms", name, ms); }
+
+}  // namespace
+
+void Viewer::draw_panels() {
+    ImGuiIO& io = ImGui::GetIO();
+    const float width = 340.0f;
+    ImGui::SetNextWindowPos(ImVec2(0, 0));
+    ImGui::SetNextWindowSize(ImVec2(width, io.DisplaySize.y));
+    ImGui::Begin("PointGauss", nullptr,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                     ImGuiWindowFlags_NoTitleBar);
+
+    ImGui::TextUnformatted(short_name(scene_.scene_path).c_str());
+    ImGui::TextDisabled("%zu Gaussians, %zu cameras%s", scene_.cloud.size(), scene_.cameras.size(),
+                        scene_.cameras_path.empty() ? " (orbit)" : "");
+    ImGui::TextDisabled("up (%s): %.2f %.2f %.2f", scene_.up_spec.c_str(), scene_.options.up.x, scene_.options.up.y,
+                        scene_.options.up.z);
+
+    if (ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) {
+        const std::string current = snapped_ >= 0 ? scene_.cameras[size_t(snapped_)].name : "free camera";
+        ImGui::SetNextItemWidth(200);
+        if (ImGui::BeginCombo("camera", current.c_str())) {
+            if (ImGui::Selectable("free camera", snapped_ < 0)) snap(-1);
+            for (size_t i = 0; i < scene_.cameras.size(); ++i)
+                if (ImGui::Selectable(scene_.cameras[i].name.c_str(), int(i) == snapped_)) snap(int(i));
+            ImGui::EndCombo();
+        }
+        const int n = int(scene_.cameras.size());
+        if (ImGui::ArrowButton("prev", ImGuiDir_Left)) snap(snapped_ <= 0 ? n - 1 : snapped_ - 1);
+        ImGui::SameLine();
+        if (ImGui::ArrowButton("next", ImGuiDir_Right)) snap(snapped_ < 0 ? 0 : (snapped_ + 1) % n);
+        ImGui::SameLine();
+        if (ImGui::Button("Frame scene (F)")) frame_scene();
+        ImGui::Checkbox("mask overlay", &show_mask_);
+        ImGui::SameLine();
+        ImGui::Checkbox("3D tints", &show_tints_);
+        ImGui::Checkbox("only the selected object (I)", &isolate_);
+        float scale = float(render_scale_);
+        ImGui::SetNextItemWidth(200);
+        if (ImGui::SliderFloat("render scale", &scale, 0.25f, 1.0f, "%.2f")) render_scale_ = scale;
+        ImGui::TextDisabled("drag: orbit, right drag: pan, wheel: zoom\nWASD QE: fly, [ ]: cameras\n"
+                            "click: positive, ctrl/right click: negative");
+    }
+
+    if (ImGui::CollapsingHeader("Objects", ImGuiTreeNodeFlags_DefaultOpen)) {
+        if (decoders_.size() > 1) {
+            ImGui::SetNextItemWidth(200);
+            if (ImGui::BeginCombo("decoder", short_name(decoder_).c_str())) {
+                for (auto& d : decoders_)
+                    if (ImGui::Selectable(short_name(d).c_str(), d == decoder_)) decoder_ = d;
+                ImGui::EndCombo();
+            }
+        } else {
+            ImGui::TextDisabled("decoder: %s", short_name(decoder_).c_str());
+        }
+        if (ImGui::Button("New object (N)")) doc_.add_object();
+        ImGui::SameLine();
+        ImGui::BeginDisabled(!doc_.can_undo());
+        if (ImGui::Button("Undo")) doc_.undo();
+        ImGui::EndDisabled();
+        ImGui::SameLine();
+        ImGui::BeginDisabled(!doc_.can_redo());
+        if (ImGui::Button("Redo")) doc_.redo();
+        ImGui::EndDisabled();
+        if (doc_.can_undo()) ImGui::TextDisabled("undo: %s", doc_.undo_label().c_str());
+
+        ImGui::BeginChild("objects", ImVec2(0, 150), true);
+        for (const auto& o : doc_.state().objects) {
+            ImGui::PushID(o.id);
+            ImGui::ColorButton("##c", ImVec4(o.colour.r, o.colour.g, o.colour.b, 1), ImGuiColorEditFlags_NoTooltip,
+                               ImVec2(14, 14));
+            ImGui::SameLine();
+            const auto count = labelled_count_.find(o.id);
+            char label[256];
+            std::snprintf(label, sizeof label, "%s%s  (%zu)", o.name.c_str(), o.hidden ? " [hidden]" : "",
+                          count == labelled_count_.end() ? size_t(0) : count->second);
+            if (ImGui::Selectable(label, o.id == doc_.state().selected)) doc_.select(o.id);
+            ImGui::PopID();
+        }
+        ImGui::EndChild();
+
+        if (const Object* sel = doc_.selected()) {
+            const int id = sel->id;
+            static char name[128];
+            static int name_for = -1;
+            static uint64_t name_version = 0;
+            if (name_for != id || name_version != doc_.version()) {
+                std::snprintf(name, sizeof name, "%s", sel->name.c_str());
+                name_for = id;
+                name_version = doc_.version();
+            }
+            ImGui::SetNextItemWidth(200);
+            ImGui::InputText("name", name, sizeof name);
+            if (ImGui::IsItemDeactivatedAfterEdit()) doc_.rename(id, name);
+            static float colour[3];
+            static bool editing_colour = false;
+            if (!editing_colour) colour[0] = sel->colour.r, colour[1] = sel->colour.g, colour[2] = sel->colour.b;
+            ImGui::ColorEdit3("colour", colour, ImGuiColorEditFlags_NoInputs);
+            editing_colour = ImGui::IsItemActive();
+            if (ImGui::IsItemDeactivatedAfterEdit()) doc_.recolour(id, glm::vec3(colour[0], colour[1], colour[2]));
+            bool hidden = sel->hidden;
+            if (ImGui::Checkbox("hidden (H)", &hidden)) doc_.set_hidden(id, hidden);
+            ImGui::SameLine();
+            if (ImGui::Button("Delete")) doc_.remove(id);
+            size_t pos = 0, neg = 0;
+            for (auto& c : sel->clicks) (c.prompt.positive ? pos : neg)++;
+            ImGui::TextDisabled("%zu positive, %zu negative clicks", pos, neg);
+            auto it = cache_.find(id);
+            if (it != cache_.end() && !it->second.error.empty())
+                ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", it->second.error.c_str());
+        }
+    }
+
+    if (ImGui::CollapsingHeader("Export", ImGuiTreeNodeFlags_DefaultOpen)) {
+        static char folder[512];
+        static bool init = false;
+        if (!init) std::snprintf(folder, sizeof folder, "%s", export_folder_.c_str()), init = true;
+        ImGui::SetNextItemWidth(250);
+        if (ImGui::InputText("folder", folder, sizeof folder)) export_folder_ = folder;
+        const bool running = export_ && export_->running;
+        ImGui::BeginDisabled(running || !labels_);
+        if (ImGui::Button("Everything")) export_to(export_folder_, true, true, true, true);
+        ImGui::SameLine();
+        if (ImGui::Button("Scene PLY")) export_to(export_folder_, true, false, false, false);
+        ImGui::SameLine();
+        if (ImGui::Button("Objects")) export_to(export_folder_, false, true, false, false);
+        if (ImGui::Button("Masks + overlays")) export_to(export_folder_, false, false, true, false);
+        ImGui::SameLine();
+        if (ImGui::Button("prompts.json")) export_to(export_folder_, false, false, false, true);
+        ImGui::EndDisabled();
+        if (export_ && (running || export_->total > 0)) {
+            const size_t total = std::max<size_t>(1, export_->total);
+            char text[64];
+            std::snprintf(text, sizeof text, "%zu / %zu views", size_t(export_->done), size_t(export_->total));
+            ImGui::ProgressBar(float(export_->done) / float(total), ImVec2(220, 0), text);
+            if (running) {
+                ImGui::SameLine();
+                if (ImGui::Button("Cancel")) export_->cancel = true;
+            }
+        }
+    }
+
+    if (ImGui::CollapsingHeader("Timings", ImGuiTreeNodeFlags_DefaultOpen)) {
+        ImGui::TextWrapped("%s (%s)", ctx_->info().name.c_str(), vk::device_type_name(ctx_->info().type).c_str());
+        timing_row("window frame", frame_ms_);
+        if (picture_valid_) {
+            ImGui::Text("picture %dx%d", picture_.camera.width, picture_.camera.height);
+            timing_row("splat render (GPU)", picture_.render_ms);
+            if (picture_.mask) timing_row("2D mask (GPU)", picture_.mask_ms);
+            timing_row("picture (wall)", picture_.wall_ms);
+        }
+        if (lift_ms_ > 0) timing_row("lift click", lift_ms_);
+        if (segment_wall_ms_ > 0) {
+            timing_row("segment object (wall)", segment_wall_ms_);
+            for (auto& [name, ms] : segment_ms_) timing_row(("  " + name).c_str(), ms);
+        }
+        const bool working = jobs_->busy() || segment_in_flight_;
+        if (working) ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "working...");
+    }
+    if (!status_.empty()) {
+        ImGui::Separator();
+        if (status_error_) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", status_.c_str());
+        else ImGui::TextWrapped("%s", status_.c_str());
+    }
+    ImGui::End();
+}
+
+}  // namespace pg::viewer

@@ -1,0 +1,647 @@
+#include "app/viewer/viewer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <nlohmann/json.hpp>
+
+#include "app/common/ptv3_decoder.h"
+#include "app/common/up_arg.h"
+#include "dataset/camera_io.h"
+#include "dataset/error.h"
+#include "dataset/image_io.h"
+#include "dataset/orbit.h"
+#include "dataset/scene_io.h"
+
+namespace pg::viewer {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double ms_between(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// Cameras beside the scene, as `pointgauss synth` and the usual datasets lay them out.
+std::string cameras_beside(const fs::path& scene) {
+    const fs::path dir = scene.parent_path();
+    for (const char* name : {"cameras.json", "transforms.json"})
+        if (fs::exists(dir / name)) return (dir / name).string();
+    for (const fs::path& sub : {fs::path("sparse") / "0", fs::path("sparse")})
+        if (fs::is_directory(dir / sub) &&
+            (fs::exists(dir / sub / "cameras.bin") || fs::exists(dir / sub / "cameras.txt")))
+            return (dir / sub).string();
+    return {};
+}
+
+double median_of(std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+
+void save_rgba(const fs::path& path, const std::vector<uint8_t>& rgba, int w, int h) {
+    std::vector<uint8_t> rgb(size_t(w) * h * 3);
+    for (size_t p = 0; p < size_t(w) * h; ++p)
+        for (int c = 0; c < 3; ++c) rgb[3 * p + c] = rgba[4 * p + c];
+    if (path.has_parent_path()) fs::create_directories(path.parent_path());
+    data::write_png8(path, w, h, 3, rgb);
+}
+
+}  // namespace
+
+Viewer::Viewer(const ViewerOptions& options) : options_(options) {
+    if (!options.script.empty()) script_ = read_script(options.script);
+    scripted_ = !options.script.empty() || !options.screenshot.empty();
+    load(options);
+    window_ = std::make_unique<Window>("PointGauss - " + fs::path(options.scene).filename().string(), options.width,
+                                       options.height);
+    ctx_ = window_->make_context(options.device);
+    gpu_scene_ = std::make_unique<render::GpuScene>(*ctx_, scene_.cloud);
+    int fw, fh;
+    window_->framebuffer_size(fw, fh);
+    presenter_ = std::make_unique<Presenter>(*ctx_, window_->surface(), fw, fh);
+    imgui_ = std::make_unique<ImGuiLayer>(*ctx_, window_->handle(), *presenter_);
+    frame_engine_ = std::make_unique<FrameEngine>(*ctx_, *gpu_scene_);
+    job_engine_ = std::make_unique<JobEngine>(*ctx_, scene_, *gpu_scene_);
+    inbox_.wake = [] { glfwPostEmptyEvent(); };
+    frames_ = std::make_unique<Worker>(true);
+    jobs_ = std::make_unique<Worker>(false);
+    render_scale_ = options.render_scale > 0 ? options.render_scale
+                                             : (ctx_->info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 0.5 : 1.0);
+    if (scripted_) render_scale_ = options.render_scale > 0 ? options.render_scale : 1.0;
+}
+
+Viewer::~Viewer() {
+    if (export_) export_->cancel = true;
+    jobs_.reset();
+    frames_.reset();
+    job_engine_.reset();
+    frame_engine_.reset();
+    imgui_.reset();
+    presenter_.reset();
+    gpu_scene_.reset();
+    if (window_) window_->destroy_surface();
+    ctx_.reset();
+}
+
+void Viewer::load(const ViewerOptions& o) {
+    scene_.scene_path = o.scene;
+    scene_.cloud = data::load_scene(o.scene);
+    if (scene_.cloud.size() == 0) throw data::InputError(o.scene, "holds no Gaussians");
+    scene_.cameras_path = o.cameras.empty() ? cameras_beside(o.scene) : o.cameras;
+    if (!scene_.cameras_path.empty()) scene_.cameras = data::load_cameras(scene_.cameras_path);
+    std::string up = o.up;
+    if (up == "auto") up = scene_.cameras.empty() ? "ground" : "cameras";
+    scene_.up_spec = up;
+    scene_.options.up = app::resolve_up(up, scene_.cameras, scene_.cloud);
+    if (scene_.cameras.empty()) {
+        // A scene without cameras gets an orbit, so it has views to snap to, export and replay.
+        data::OrbitOptions oo;
+        oo.width = 960;
+        oo.height = 540;
+        scene_.cameras = data::orbit_cameras(scene_.cloud, scene_.options.up, oo);
+    }
+
+    std::vector<double> xs, ys, zs;
+    for (auto& m : scene_.cloud.mean) xs.push_back(m.x), ys.push_back(m.y), zs.push_back(m.z);
+    centre_ = {median_of(xs), median_of(ys), median_of(zs)};
+    std::vector<double> d;
+    for (auto& m : scene_.cloud.mean) d.push_back(glm::length(glm::dvec3(m) - centre_));
+    std::nth_element(d.begin(), d.begin() + long(d.size() * 9 / 10), d.end());
+    radius_ = std::max(1e-6, d[d.size() * 9 / 10]);
+    const auto& c0 = scene_.cameras.front();
+    fov_y_ = glm::degrees(2.0 * std::atan(0.5 * c0.height / c0.fy));
+    orbit_ = OrbitCamera(scene_.options.up);
+    frame_scene();
+    snapped_ = 0;
+
+    const std::string shipped = app::default_model_path();
+    if (!o.model.empty() && o.model != "ground-truth") {
+        if (!fs::exists(o.model)) throw data::InputError("--model", "'" + o.model + "' does not exist");
+        decoders_.push_back(o.model);
+    } else if (!shipped.empty()) {
+        decoders_.push_back(shipped);
+    }
+    if (scene_.cloud.int_property("instance")) decoders_.push_back("ground-truth");
+    if (o.model == "ground-truth" && !scene_.cloud.int_property("instance"))
+        throw data::InputError(o.scene, "has no 'instance' property for the ground-truth decoder");
+    if (decoders_.empty())
+        throw data::InputError("--model", "no model found (set PG_MODEL or give --model FILE.safetensors)");
+    decoder_ = o.model == "ground-truth" ? "ground-truth" : decoders_.front();
+    export_folder_ = o.out.empty() ? (fs::path(o.scene).stem().string() + "-segmentation") : o.out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Actions
+
+void Viewer::status(const std::string& text, bool error) {
+    status_ = text;
+    status_error_ = error;
+    if (error) {
+        ++errors_;
+        std::fprintf(stderr, "viewer: %s\n", text.c_str());
+    }
+}
+
+void Viewer::leave_snap() {
+    if (snapped_ < 0) return;
+    const auto& c = scene_.cameras[size_t(snapped_)];
+    const double ahead = glm::dot(centre_ - c.position(), c.forward());
+    orbit_.match(c, ahead > 1e-6 ? ahead : radius_);
+    snapped_ = -1;
+}
+
+void Viewer::snap(int camera) {
+    if (camera >= int(scene_.cameras.size())) camera = int(scene_.cameras.size()) - 1;
+    if (camera < 0) {
+        leave_snap();
+        return;
+    }
+    snapped_ = camera;
+    last_motion_ = Clock::now();
+}
+
+void Viewer::orbit(double yaw, double pitch) {
+    leave_snap();
+    orbit_.orbit(yaw, pitch);
+    last_motion_ = Clock::now();
+}
+
+void Viewer::pan(double right, double down) {
+    leave_snap();
+    orbit_.pan(right, down);
+    last_motion_ = Clock::now();
+}
+
+void Viewer::zoom(double factor) {
+    leave_snap();
+    orbit_.dolly(factor);
+    last_motion_ = Clock::now();
+}
+
+void Viewer::frame_scene() {
+    const double d = radius_ / std::tan(glm::radians(0.5 * fov_y_)) * 1.1;
+    const glm::dvec3 up = scene_.options.up;
+    glm::dvec3 a, b;
+    data::horizontal_axes(up, a, b);
+    orbit_.look_at(centre_ + d * glm::normalize(a * 0.9 + up * 0.35), centre_);
+    snapped_ = -1;
+    last_motion_ = Clock::now();
+}
+
+void Viewer::click_at(double x, double y, bool positive) {
+    if (!picture_valid_ || x < 0 || y < 0 || x >= 1 || y >= 1) return;
+    data::Camera cam = picture_.camera;
+    data::PromptClick prompt;
+    prompt.positive = positive;
+    // A dataset view keeps its own pixels, so `segment` replays the click on the same camera.
+    auto it = std::find_if(scene_.cameras.begin(), scene_.cameras.end(),
+                           [&](auto& c) { return c.name == cam.name; });
+    const bool dataset_view = it != scene_.cameras.end();
+    if (dataset_view) cam = *it;
+    const double u = x * cam.width, v = y * cam.height;
+    if (dataset_view) {
+        prompt.view = cam.name;
+        prompt.u = u;
+        prompt.v = v;
+    }
+    jobs_->post([this, cam, u, v, prompt]() mutable {
+        const auto t0 = Clock::now();
+        try {
+            seg::Anchor a = job_engine_->lift(cam, u, v, prompt.positive);
+            const double ms = ms_between(t0, Clock::now());
+            if (prompt.view.empty()) prompt.point = a.position;
+            inbox_.post([this, prompt, a, ms] {
+                lift_ms_ = ms;
+                doc_.add_click(Click{prompt, a.position});
+                status(std::string(prompt.positive ? "positive" : "negative") + " click added");
+            });
+        } catch (const std::exception& e) {
+            std::string what = e.what();
+            inbox_.post([this, what] { status("click ignored: " + what, true); });
+        }
+    });
+}
+
+void Viewer::export_to(const std::string& folder, bool scene, bool objects, bool masks, bool prompts) {
+    if (export_ && export_->running) {
+        status("an export is already running", true);
+        return;
+    }
+    if (!labels_) {
+        status("nothing to export yet: click an object first", true);
+        return;
+    }
+    ExportRequest rq;
+    rq.folder = folder;
+    rq.scene = scene;
+    rq.objects = objects;
+    rq.masks = masks;
+    rq.prompts = prompts;
+    rq.labels = labels_;
+    rq.document = doc_.state();
+    rq.prompts_json = doc_.prompts();
+    rq.decoder = decoder_;
+    rq.stage_ms = segment_ms_;
+    export_ = std::make_shared<ExportProgress>();
+    export_->running = true;
+    auto progress = export_;
+    jobs_->post([this, rq, progress] {
+        std::string error;
+        try {
+            job_engine_->write(rq, progress->done, progress->total, progress->cancel);
+        } catch (const std::exception& e) {
+            error = e.what();
+        }
+        progress->running = false;
+        inbox_.post([this, rq, error, progress] {
+            if (!error.empty()) status("export failed: " + error, true);
+            else if (progress->cancel) status("export cancelled");
+            else status("exported to " + rq.folder.string());
+        });
+    });
+}
+
+// ---------------------------------------------------------------------------------------------
+// Segmentation: one object per job, cached by what determines its result.
+
+std::string Viewer::signature(const data::ObjectPrompt& p, size_t k) const {
+    nlohmann::json j;
+    j["k"] = k;
+    j["decoder"] = decoder_;
+    for (auto& c : p.clicks) {
+        nlohmann::json jc{{"positive", c.positive}};
+        if (c.point) jc["point"] = {c.point->x, c.point->y, c.point->z};
+        else jc["view"] = {c.view, c.u, c.v};
+        j["clicks"].push_back(jc);
+    }
+    return j.dump();
+}
+
+void Viewer::update_segmentation() {
+    const data::Prompts prompts = doc_.prompts();
+    if (!segment_in_flight_) {
+        for (size_t k = 0; k < prompts.objects.size(); ++k) {
+            const auto& op = prompts.objects[k];
+            const std::string sig = signature(op, k);
+            if (cache_[op.id].signature == sig) continue;
+            segment_in_flight_ = true;
+            const std::string decoder = decoder_;
+            jobs_->post([this, op, k, sig, decoder] {
+                Cached c;
+                c.signature = sig;
+                std::map<std::string, double> ms;
+                const auto t0 = Clock::now();
+                try {
+                    c.result = job_engine_->segment(op, k, decoder, ms);
+                } catch (const std::exception& e) {
+                    c.error = e.what();
+                }
+                const double wall = ms_between(t0, Clock::now());
+                inbox_.post([this, id = op.id, c, ms, wall] {
+                    segment_in_flight_ = false;
+                    cache_[id] = c;
+                    if (!c.error.empty()) status("segmentation failed: " + c.error, true);
+                    else segment_ms_ = ms, segment_wall_ms_ = wall;
+                });
+            });
+            break;
+        }
+    }
+    // Labels from every object whose cached result is current (ties go to the earlier object).
+    std::string key;
+    seg::SegmentResult result;
+    for (size_t k = 0; k < prompts.objects.size(); ++k) {
+        auto it = cache_.find(prompts.objects[k].id);
+        if (it == cache_.end() || !it->second.result || it->second.signature != signature(prompts.objects[k], k))
+            continue;
+        key += std::to_string(it->first) + ":" + it->second.signature + ";";
+        result.objects.push_back(*it->second.result);
+        result.objects.back().id = prompts.objects[k].id;
+    }
+    if (key == assembled_key_) return;
+    assembled_key_ = key;
+    result.assemble(scene_.cloud.size());
+    labelled_count_.clear();
+    for (auto& o : result.objects) labelled_count_[o.id] = o.labelled;
+    labels_ = result.objects.empty() ? nullptr : std::make_shared<const std::vector<int32_t>>(std::move(result.labels));
+    ++labels_version_;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Frames
+
+std::vector<glm::vec4> Viewer::palette() const {
+    int max_id = 0;
+    for (auto& o : doc_.state().objects) max_id = std::max(max_id, o.id);
+    const int selected = doc_.state().selected;
+    std::vector<glm::vec4> p(size_t(max_id) + 1, glm::vec4(0, 0, 0, isolate_ ? -1.0f : 0.0f));
+    for (auto& o : doc_.state().objects) {
+        float a = show_tints_ ? 0.5f : 0.0f;
+        if (o.hidden || (isolate_ && o.id != selected)) a = -1.0f;
+        p[size_t(o.id)] = glm::vec4(o.colour, a);
+    }
+    return p;
+}
+
+FrameRequest Viewer::frame_request(bool mask) const {
+    FrameRequest rq;
+    const int vw = std::max(1, int(viewport_.width * render_scale_));
+    const int vh = std::max(1, int(viewport_.height * render_scale_));
+    if (snapped_ >= 0) {
+        const auto& c = scene_.cameras[size_t(snapped_)];
+        const double s = std::min(double(vw) / c.width, double(vh) / c.height);
+        rq.camera = c.resized(std::max(1, int(std::lround(c.width * s))), std::max(1, int(std::lround(c.height * s))));
+    } else {
+        rq.camera = orbit_.camera(vw, vh, fov_y_);
+    }
+    rq.labels = labels_;
+    rq.labels_version = labels_version_;
+    rq.palette = palette();
+    rq.mask = mask && show_mask_ && labels_;
+    return rq;
+}
+
+void Viewer::request_frame() {
+    if (viewport_.width <= 0 || viewport_.height <= 0) return;
+    // While the camera moves, skip the mask passes; they come back once it rests.
+    const bool still = scripted_ || ms_between(last_motion_, Clock::now()) > 250;
+    FrameRequest rq = frame_request(still);
+    const auto& c = rq.camera;
+    char key[256];
+    std::snprintf(key, sizeof key, "%s %d %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %llu %d|", c.name.c_str(), c.width,
+                  c.height, c.fx, c.fy, c.cx, c.cy, c.t.x, c.t.y, c.t.z, (unsigned long long)rq.labels_version,
+                  int(rq.mask));
+    std::string k = key;
+    for (int i = 0; i < 9; ++i) k += std::to_string(c.R[i / 3][i % 3]) + ",";
+    for (auto& p : rq.palette) k += std::to_string(p.r + 2 * p.g + 4 * p.b) + "/" + std::to_string(p.a) + ",";
+    if (k == requested_key_) return;
+    requested_key_ = k;
+    rq.id = ++request_id_;
+    frames_->post([this, rq] {
+        try {
+            FramePicture pic = frame_engine_->render(rq);
+            inbox_.post([this, pic = std::move(pic)]() mutable {
+                presenter_->set_picture(pic.rgba, pic.camera.width, pic.camera.height);
+                picture_ = std::move(pic);
+                picture_valid_ = true;
+            });
+        } catch (const std::exception& e) {
+            std::string what = e.what();
+            inbox_.post([this, what] { status("render failed: " + what, true); });
+        }
+    });
+}
+
+// ---------------------------------------------------------------------------------------------
+// Input: SuperSplat's habits where they exist (left drag orbits, right or middle drag pans,
+// wheel zooms, WASD/QE fly; a click without a drag is a prompt, Ctrl or the right button
+// makes it negative).
+
+void Viewer::handle_input() {
+    ImGuiIO& io = ImGui::GetIO();
+    const float sx = io.DisplayFramebufferScale.x, sy = io.DisplayFramebufferScale.y;
+    const Rect r = presenter_->picture_rect();
+    auto picture_fraction = [&](ImVec2 m, double& x, double& y) {
+        x = (m.x * sx - r.x) / std::max(1, r.width);
+        y = (m.y * sy - r.y) / std::max(1, r.height);
+        return x >= 0 && y >= 0 && x < 1 && y < 1;
+    };
+    if (!io.WantCaptureMouse) {
+        const ImVec2 m = io.MousePos;
+        const bool in_view = m.x * sx >= viewport_.x && m.x * sx < viewport_.x + viewport_.width;
+        for (int b : {0, 1}) {
+            if (!ImGui::IsMouseReleased(b) || !in_view) continue;
+            const ImVec2 drag = io.MouseDragMaxDistanceSqr[b] > 16.0f ? ImVec2(1, 1) : ImVec2(0, 0);
+            double x, y;
+            if (drag.x == 0 && picture_fraction(m, x, y)) click_at(x, y, b == 0 && !io.KeyCtrl);
+        }
+        if (in_view && ImGui::IsMouseDragging(0) && !io.KeyShift) {
+            orbit(-0.3 * io.MouseDelta.x, 0.3 * io.MouseDelta.y);
+        } else if (in_view && (ImGui::IsMouseDragging(1) || ImGui::IsMouseDragging(2) ||
+                               (ImGui::IsMouseDragging(0) && io.KeyShift))) {
+            const double per_px = 2.0 * std::tan(glm::radians(0.5 * fov_y_)) / std::max(1, viewport_.height);
+            if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0)
+                pan(-io.MouseDelta.x * sx * per_px, -io.MouseDelta.y * sy * per_px);
+        }
+        if (in_view && io.MouseWheel != 0) zoom(std::pow(0.88, io.MouseWheel));
+    }
+    if (io.WantCaptureKeyboard) return;
+    const double step = std::min(0.1, double(io.DeltaTime)) * 0.8;
+    glm::dvec3 fly{0.0};
+    if (ImGui::IsKeyDown(GLFW_KEY_W)) fly.z += step;
+    if (ImGui::IsKeyDown(GLFW_KEY_S)) fly.z -= step;
+    if (ImGui::IsKeyDown(GLFW_KEY_D)) fly.x += step;
+    if (ImGui::IsKeyDown(GLFW_KEY_A)) fly.x -= step;
+    if (ImGui::IsKeyDown(GLFW_KEY_E)) fly.y -= step;
+    if (ImGui::IsKeyDown(GLFW_KEY_Q)) fly.y += step;
+    if (!io.KeyCtrl && fly != glm::dvec3(0.0)) {
+        leave_snap();
+        orbit_.fly(fly);
+        last_motion_ = Clock::now();
+    }
+    const int cams = int(scene_.cameras.size());
+    if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT_BRACKET) || ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN))
+        snap(snapped_ < 0 ? 0 : (snapped_ + 1) % cams);
+    if (ImGui::IsKeyPressed(GLFW_KEY_LEFT_BRACKET) || ImGui::IsKeyPressed(GLFW_KEY_PAGE_UP))
+        snap(snapped_ <= 0 ? cams - 1 : snapped_ - 1);
+    if (ImGui::IsKeyPressed(GLFW_KEY_F)) frame_scene();
+    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Z)) io.KeyShift ? doc_.redo() : doc_.undo();
+    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Y)) doc_.redo();
+    if (!io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_N)) doc_.add_object();
+    if (ImGui::IsKeyPressed(GLFW_KEY_DELETE) && doc_.selected()) doc_.remove(doc_.state().selected);
+    if (!io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_H) && doc_.selected())
+        doc_.set_hidden(doc_.state().selected, !doc_.selected()->hidden);
+    if (!io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_I)) isolate_ = !isolate_;
+}
+
+void Viewer::draw_markers() {
+    if (!picture_valid_) return;
+    ImGuiIO& io = ImGui::GetIO();
+    const Rect r = presenter_->picture_rect();
+    const data::Camera& c = picture_.camera;
+    const glm::dmat4 view = c.world_to_camera();
+    ImDrawList* dl = ImGui::GetBackgroundDrawList();
+    for (const auto& o : doc_.state().objects) {
+        if (o.hidden || (isolate_ && o.id != doc_.state().selected)) continue;
+        const bool selected = o.id == doc_.state().selected;
+        for (const auto& click : o.clicks) {
+            const glm::dvec4 p = view * glm::dvec4(click.anchor, 1.0);
+            if (p.z <= 1e-6) continue;
+            const double u = (c.fx * p.x / p.z + c.cx) / c.width, v = (c.fy * p.y / p.z + c.cy) / c.height;
+            if (u < 0 || v < 0 || u > 1 || v > 1) continue;
+            const ImVec2 at((r.x + u * r.width) / io.DisplayFramebufferScale.x,
+                            (r.y + v * r.height) / io.DisplayFramebufferScale.y);
+            const float radius = selected ? 6.0f : 4.0f;
+            const ImU32 fill = click.prompt.positive ? IM_COL32(40, 200, 90, 255) : IM_COL32(230, 50, 50, 255);
+            dl->AddCircleFilled(at, radius, fill);
+            dl->AddCircle(at, radius + 1.0f, IM_COL32(255, 255, 255, selected ? 255 : 140), 0, 1.5f);
+            const float h = radius * 0.6f;
+            dl->AddLine(ImVec2(at.x - h, at.y), ImVec2(at.x + h, at.y), IM_COL32(255, 255, 255, 255), 1.5f);
+            if (click.prompt.positive)
+                dl->AddLine(ImVec2(at.x, at.y - h), ImVec2(at.x, at.y + h), IM_COL32(255, 255, 255, 255), 1.5f);
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scripts
+
+bool Viewer::idle(bool workers_idle) const {
+    if (!workers_idle || segment_in_flight_) return false;
+    const data::Prompts prompts = doc_.prompts();
+    for (size_t k = 0; k < prompts.objects.size(); ++k) {
+        auto it = cache_.find(prompts.objects[k].id);
+        if (it == cache_.end() || it->second.signature != signature(prompts.objects[k], k)) return false;
+    }
+    return picture_valid_ && picture_.id == request_id_;
+}
+
+void Viewer::run_action(const Action& a) {
+    const auto& v = a.value;
+    const std::string& k = a.kind;
+    auto fail = [&](const std::string& why) { throw data::InputError(a.where, why); };
+    if (k == "snap") {
+        int index = -1;
+        if (v.is_string()) {
+            for (size_t i = 0; i < scene_.cameras.size(); ++i)
+                if (scene_.cameras[i].name == v.get<std::string>()) index = int(i);
+        } else {
+            index = v.get<int>();
+        }
+        if (index < 0 || index >= int(scene_.cameras.size())) fail("no camera " + v.dump());
+        snap(index);
+    } else if (k == "orbit") {
+        orbit(v[0].get<double>(), v[1].get<double>());
+    } else if (k == "pan") {
+        pan(v[0].get<double>(), v[1].get<double>());
+    } else if (k == "zoom") {
+        zoom(v.get<double>());
+    } else if (k == "frame") {
+        frame_scene();
+    } else if (k == "new_object") {
+        doc_.add_object(v.get<std::string>());
+    } else if (k == "click" || k == "click_pixel") {
+        double x = v[0].get<double>(), y = v[1].get<double>();
+        if (k == "click_pixel") {
+            if (snapped_ < 0) fail("'click_pixel' needs a dataset camera: snap first");
+            const auto& c = scene_.cameras[size_t(snapped_)];
+            x /= c.width;
+            y /= c.height;
+        }
+        if (x < 0 || y < 0 || x >= 1 || y >= 1) fail("the click lies outside the picture");
+        click_at(x, y, !a.extra.value("negative", false));
+    } else if (k == "select") {
+        if (!doc_.select(v.get<int>()) && doc_.state().selected != v.get<int>()) fail("no object " + v.dump());
+    } else if (k == "rename" || k == "recolour" || k == "hide" || k == "delete") {
+        const int id = doc_.state().selected;
+        if (!doc_.selected()) fail("no object is selected");
+        if (k == "rename") doc_.rename(id, v.get<std::string>());
+        if (k == "recolour") doc_.recolour(id, glm::vec3(v[0].get<float>(), v[1].get<float>(), v[2].get<float>()));
+        if (k == "hide") doc_.set_hidden(id, v.get<bool>());
+        if (k == "delete" && v.get<bool>()) doc_.remove(id);
+    } else if (k == "isolate") {
+        isolate_ = v.get<bool>();
+    } else if (k == "tints") {
+        show_tints_ = v.get<bool>();
+    } else if (k == "mask") {
+        show_mask_ = v.get<bool>();
+    } else if (k == "decoder") {
+        const std::string want = v.get<std::string>();
+        auto it = std::find_if(decoders_.begin(), decoders_.end(),
+                               [&](auto& d) { return d == want || (want != "ground-truth" && want == "model"); });
+        if (it == decoders_.end()) fail("decoder '" + want + "' is not available");
+        decoder_ = *it;
+    } else if (k == "undo") {
+        for (int i = 0; i < v.get<int>(); ++i) doc_.undo();
+    } else if (k == "redo") {
+        for (int i = 0; i < v.get<int>(); ++i) doc_.redo();
+    } else if (k == "export") {
+        if (v.is_string()) {
+            export_to(v.get<std::string>(), true, true, true, true);
+        } else {
+            export_to(v["folder"].get<std::string>(), v.value("scene", true), v.value("objects", true),
+                      v.value("masks", true), v.value("prompts", true));
+        }
+    } else if (k == "screenshot") {
+        if (a.extra.value("view", false)) {
+            if (!picture_valid_) fail("no picture yet");
+            save_rgba(v.get<std::string>(), picture_.rgba, picture_.camera.width, picture_.camera.height);
+        } else {
+            capture_path_ = v.get<std::string>();
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The loop
+
+int Viewer::run() {
+    auto last = Clock::now();
+    while (!window_->should_close() && !quit_) {
+        const bool busy = frames_->busy() || jobs_->busy() || scripted_ ||
+                          ms_between(last_motion_, Clock::now()) < 400;
+        if (busy) glfwPollEvents();
+        else glfwWaitEventsTimeout(0.25);
+        const bool workers_idle = !frames_->busy() && !jobs_->busy();
+        inbox_.drain();
+        update_segmentation();
+
+        int fw, fh;
+        window_->framebuffer_size(fw, fh);
+        imgui_->begin_frame();
+        ImGuiIO& io = ImGui::GetIO();
+        const int panel = int(340 * io.DisplayFramebufferScale.x);
+        viewport_ = {panel, 0, std::max(0, fw - panel), fh};
+        presenter_->set_viewport(viewport_);
+        handle_input();
+        draw_panels();
+        draw_markers();
+        imgui_->end_frame();
+        request_frame();
+
+        bool capture = false;
+        if (scripted_ && script_next_ <= script_.size()) {
+            // Each action runs once everything the previous one started has finished and shown.
+            idle_frames_ = idle(workers_idle) && errors_ == 0 ? idle_frames_ + 1 : 0;
+            if (errors_ > 0) {
+                quit_ = true;
+            } else if (idle_frames_ >= 3 && capture_path_.empty()) {
+                if (script_next_ < script_.size()) {
+                    run_action(script_[script_next_++]);
+                    idle_frames_ = 0;
+                } else {
+                    if (!options_.screenshot.empty()) capture_path_ = options_.screenshot;
+                    script_next_ = script_.size() + 1;  // done once the capture is saved
+                    if (capture_path_.empty()) quit_ = true;
+                }
+            }
+            capture = !capture_path_.empty() && idle_frames_ >= 1;
+        }
+        presenter_->present(fw, fh, [&](VkCommandBuffer cmd) { imgui_->record(cmd); }, capture);
+        if (capture) {
+            save_rgba(capture_path_, presenter_->captured(), presenter_->captured_width(),
+                      presenter_->captured_height());
+            capture_path_.clear();
+            if (script_next_ > script_.size()) quit_ = true;
+        }
+        const auto now = Clock::now();
+        frame_ms_ = ms_between(last, now);
+        last = now;
+    }
+    if (errors_ > 0 && scripted_) return 1;
+    if (vk::Context::validation_message_count() > 0) {
+        std::fprintf(stderr, "viewer: %llu Vulkan validation message(s)\n",
+                     (unsigned long long)vk::Context::validation_message_count());
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace pg::viewer

@@ -1,0 +1,127 @@
+#pragma once
+// pointgauss-viewer: the window, its state and the user's actions. Mouse, keys, panels and
+// scripts all go through the same action methods, so a script exercises what a user does.
+#include <atomic>
+#include <chrono>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/viewer/document.h"
+#include "app/viewer/frame_engine.h"
+#include "app/viewer/imgui_layer.h"
+#include "app/viewer/job_engine.h"
+#include "app/viewer/orbit_camera.h"
+#include "app/viewer/presenter.h"
+#include "app/viewer/script.h"
+#include "app/viewer/window.h"
+#include "app/viewer/worker.h"
+
+namespace pg::viewer {
+
+struct ViewerOptions {
+    std::string scene, cameras, model, up = "auto", device, script, screenshot, out;
+    int width = 1400, height = 860;
+    double render_scale = 0;  // 0: 1 on a GPU, 0.5 on a CPU device
+};
+
+class Viewer {
+public:
+    explicit Viewer(const ViewerOptions& options);
+    ~Viewer();
+    int run();  // the exit code
+
+    // Actions.
+    void click_at(double picture_x, double picture_y, bool positive);  // fractions of the picture
+    void snap(int camera);                                              // -1: free camera
+    void orbit(double yaw, double pitch);
+    void pan(double right, double down);
+    void zoom(double factor);
+    void frame_scene();
+    void export_to(const std::string& folder, bool scene, bool objects, bool masks, bool prompts);
+
+private:
+    struct Cached {
+        std::string signature;
+        std::optional<seg::ObjectResult> result;
+        std::string error;
+    };
+    struct ExportProgress {
+        std::atomic<size_t> done{0}, total{0};
+        std::atomic<bool> cancel{false}, running{false};
+    };
+
+    void load(const ViewerOptions& options);
+    void update_segmentation();
+    void request_frame();
+    FrameRequest frame_request(bool mask) const;
+    std::vector<glm::vec4> palette() const;
+    void handle_input();
+    void draw_panels();
+    void draw_markers();
+    bool idle(bool workers_idle) const;
+    void run_action(const Action& a);
+    void status(const std::string& text, bool error = false);
+    void leave_snap();
+    std::string signature(const data::ObjectPrompt& p, size_t k) const;
+
+    ViewerOptions options_;
+    SceneData scene_;
+    std::unique_ptr<Window> window_;
+    std::unique_ptr<vk::Context> ctx_;
+    std::unique_ptr<render::GpuScene> gpu_scene_;
+    std::unique_ptr<Presenter> presenter_;
+    std::unique_ptr<ImGuiLayer> imgui_;
+    std::unique_ptr<FrameEngine> frame_engine_;
+    std::unique_ptr<JobEngine> job_engine_;
+    Inbox inbox_;
+    std::unique_ptr<Worker> frames_, jobs_;  // declared last: joined first
+
+    // View.
+    OrbitCamera orbit_;
+    int snapped_ = 0;  // dataset camera shown, -1: the free camera
+    double fov_y_ = 50;
+    double render_scale_ = 1;
+    glm::dvec3 centre_{0.0};
+    double radius_ = 1;
+    bool show_mask_ = true, show_tints_ = false, isolate_ = false;
+    Rect viewport_;  // framebuffer pixels
+    std::chrono::steady_clock::time_point last_motion_{};
+    std::string requested_key_;
+    uint64_t request_id_ = 0;
+    FramePicture picture_;
+    bool picture_valid_ = false;
+
+    // Segmentation.
+    Document doc_;
+    std::vector<std::string> decoders_;
+    std::string decoder_;
+    std::map<int, Cached> cache_;
+    bool segment_in_flight_ = false;
+    std::string assembled_key_;
+    std::shared_ptr<const std::vector<int32_t>> labels_;
+    uint64_t labels_version_ = 0;
+    std::map<int, size_t> labelled_count_;
+    std::map<std::string, double> segment_ms_;
+    double segment_wall_ms_ = 0, lift_ms_ = 0;
+
+    // Export and status.
+    std::string export_folder_;
+    std::shared_ptr<ExportProgress> export_;
+    std::string status_;
+    bool status_error_ = false;
+    int errors_ = 0;
+
+    // Script.
+    bool scripted_ = false;  // --script or --screenshot: replay, capture, quit
+    std::vector<Action> script_;
+    size_t script_next_ = 0;
+    int idle_frames_ = 0;
+    std::string capture_path_;
+    bool quit_ = false;
+    double frame_ms_ = 0;
+};
+
+}  // namespace pg::viewer

@@ -1,0 +1,51 @@
+// Script files: every action the viewer knows parses; mistakes are named by file and action.
+#include <catch2/catch.hpp>
+
+#include <fstream>
+
+#include "app/viewer/script.h"
+#include "dataset/error.h"
+#include "tests/test_paths.h"
+
+namespace {
+std::filesystem::path write(const std::string& name, const std::string& text) {
+    auto p = pg::test::scratch("viewer-script") / name;
+    std::ofstream(p) << text;
+    return p;
+}
+std::string error_of(const std::string& text) {
+    try {
+        pg::viewer::read_script(write("bad.json", text));
+    } catch (const pg::data::InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+}  // namespace
+
+TEST_CASE("a script with every action parses in order", "[viewer]") {
+    auto actions = pg::viewer::read_script(write("all.json", R"({"actions": [
+        {"snap": 0}, {"snap": "view_001"}, {"orbit": [10, -5]}, {"pan": [0.1, 0]}, {"zoom": 0.8},
+        {"frame": true}, {"new_object": "mug"}, {"click": [0.5, 0.5]}, {"click_pixel": [10, 20], "negative": true},
+        {"select": 1}, {"rename": "cup"}, {"recolour": [1, 0, 0]}, {"hide": false}, {"isolate": true},
+        {"tints": true}, {"mask": false}, {"decoder": "ground-truth"}, {"undo": 2}, {"redo": 1},
+        {"export": "out"}, {"export": {"folder": "o2", "masks": false}}, {"screenshot": "a.png", "view": true},
+        {"delete": true}]})"));
+    REQUIRE(actions.size() == 23);
+    REQUIRE(actions[8].kind == "click_pixel");
+    REQUIRE(actions[8].extra.value("negative", false));
+    REQUIRE(actions[21].extra.value("view", false));
+}
+
+TEST_CASE("script errors name the file, the action and the reason", "[viewer]") {
+    REQUIRE(error_of(R"({"steps": []})").find("expected {\"actions\"") != std::string::npos);
+    auto e = error_of(R"({"actions": [{"snap": 0}, {"clik": [0.5, 0.5]}]})");
+    REQUIRE(e.find("bad.json: action 1") != std::string::npos);
+    REQUIRE(e.find("unknown action 'clik'") != std::string::npos);
+    REQUIRE(error_of(R"({"actions": [{"click": [0.5]}]})").find("two numbers") != std::string::npos);
+    REQUIRE(error_of(R"({"actions": [{"zoom": -1}]})").find("factor > 0") != std::string::npos);
+    REQUIRE(error_of(R"({"actions": [{"snap": 0, "zoom": 2}]})").find("names two actions") != std::string::npos);
+    REQUIRE(error_of(R"({"actions": [{"negative": true}]})").find("names no action") != std::string::npos);
+    REQUIRE(error_of(R"({"actions": [{"hide": "yes"}]})").find("true or false") != std::string::npos);
+    REQUIRE(error_of("{not json").find("bad.json") != std::string::npos);
+}
