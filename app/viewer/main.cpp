@@ -5,7 +5,6 @@
 #include <CLI/CLI.hpp>
 
 #include "app/viewer/viewer.h"
-#include "dataset/error.h"
 
 int main(int argc, char** argv) {
     pg::viewer::ViewerOptions o;
@@ -15,7 +14,8 @@ int main(int argc, char** argv) {
                    "Camera file or COLMAP folder (default: cameras.json, transforms.json or sparse/0 beside the "
                    "scene; none: an orbit is made)");
     app.add_option("--model", o.model, "Decoder: a PTv3 model file (default: the shipped model), or ground-truth");
-    app.add_option("--up", o.up, "Up axis: auto (cameras, else ground), cameras, ground, or x,y,z / -y ...")
+    app.add_option("--up", o.up, "Up axis: auto (from the cameras; -y, the COLMAP frame, for a scene without cameras), cameras, ground "
+                   "(plane fit), or x,y,z / -y ...")
         ->capture_default_str();
     app.add_option("--out", o.out, "Export folder (default: SCENE-segmentation)");
     app.add_option("--device", o.device, "Vulkan device (substring of its name; default: PG_DEVICE, else the best)");
@@ -30,9 +30,6 @@ int main(int argc, char** argv) {
     try {
         pg::viewer::Viewer viewer(o);
         return viewer.run();
-    } catch (const pg::data::InputError& e) {
-        std::fprintf(stderr, "error: %s\n", e.what());
-        return 2;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         return 1;

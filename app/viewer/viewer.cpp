@@ -97,7 +97,8 @@ void Viewer::load(const ViewerOptions& o) {
     scene_.cameras_path = o.cameras.empty() ? cameras_beside(o.scene) : o.cameras;
     if (!scene_.cameras_path.empty()) scene_.cameras = data::load_cameras(scene_.cameras_path);
     std::string up = o.up;
-    if (up == "auto") up = scene_.cameras.empty() ? "ground" : "cameras";
+    // Without cameras: -y, the frame COLMAP-trained scenes (most 3DGS PLYs) are stored in.
+    if (up == "auto") up = scene_.cameras.empty() ? "-y" : "cameras";
     scene_.up_spec = up;
     scene_.options.up = app::resolve_up(up, scene_.cameras, scene_.cloud);
     if (scene_.cameras.empty()) {
