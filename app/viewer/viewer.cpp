@@ -433,6 +433,7 @@ void Viewer::handle_input() {
         }
         if (in_view && io.MouseWheel != 0) zoom(std::pow(0.88, io.MouseWheel));
     }
+    const auto presses = window_->take_key_presses();
     if (io.WantCaptureKeyboard) return;
     const double step = std::min(0.1, double(io.DeltaTime)) * 0.8;
     glm::dvec3 fly{0.0};
@@ -448,18 +449,36 @@ void Viewer::handle_input() {
         last_motion_ = Clock::now();
     }
     const int cams = int(scene_.cameras.size());
-    if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT_BRACKET) || ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN))
-        snap(snapped_ < 0 ? 0 : (snapped_ + 1) % cams);
-    if (ImGui::IsKeyPressed(GLFW_KEY_LEFT_BRACKET) || ImGui::IsKeyPressed(GLFW_KEY_PAGE_UP))
-        snap(snapped_ <= 0 ? cams - 1 : snapped_ - 1);
-    if (ImGui::IsKeyPressed(GLFW_KEY_F)) frame_scene();
-    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Z)) io.KeyShift ? doc_.redo() : doc_.undo();
-    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Y)) doc_.redo();
-    if (!io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_N)) doc_.add_object();
-    if (ImGui::IsKeyPressed(GLFW_KEY_DELETE) && doc_.selected()) doc_.remove(doc_.state().selected);
-    if (!io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_H) && doc_.selected())
-        doc_.set_hidden(doc_.state().selected, !doc_.selected()->hidden);
-    if (!io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_I)) isolate_ = !isolate_;
+    for (const auto& [key, mods] : presses) {
+        const bool ctrl = mods & GLFW_MOD_CONTROL, shift = mods & GLFW_MOD_SHIFT;
+        const int selected = doc_.state().selected;
+        switch (key) {
+            case GLFW_KEY_RIGHT_BRACKET:
+            case GLFW_KEY_PAGE_DOWN: snap(snapped_ < 0 ? 0 : (snapped_ + 1) % cams); break;
+            case GLFW_KEY_LEFT_BRACKET:
+            case GLFW_KEY_PAGE_UP: snap(snapped_ <= 0 ? cams - 1 : snapped_ - 1); break;
+            case GLFW_KEY_F: frame_scene(); break;
+            case GLFW_KEY_Z:
+                if (ctrl) shift ? doc_.redo() : doc_.undo();
+                break;
+            case GLFW_KEY_Y:
+                if (ctrl) doc_.redo();
+                break;
+            case GLFW_KEY_N:
+                if (!ctrl) doc_.add_object();
+                break;
+            case GLFW_KEY_DELETE:
+                if (doc_.selected()) doc_.remove(selected);
+                break;
+            case GLFW_KEY_H:
+                if (!ctrl && doc_.selected()) doc_.set_hidden(selected, !doc_.selected()->hidden);
+                break;
+            case GLFW_KEY_I:
+                if (!ctrl) isolate_ = !isolate_;
+                break;
+            default: break;
+        }
+    }
 }
 
 void Viewer::draw_markers() {

@@ -30,6 +30,17 @@ Window::Window(const std::string& title, int width, int height) {
         glfwTerminate();
         throw std::runtime_error("cannot create the window: " + e);
     }
+    // Installed before Dear ImGui's backend, which chains to it.
+    glfwSetWindowUserPointer(window_, this);
+    glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) {
+        if (action != GLFW_RELEASE) static_cast<Window*>(glfwGetWindowUserPointer(w))->presses_.push_back({key, mods});
+    });
+}
+
+std::vector<Window::KeyPress> Window::take_key_presses() {
+    std::vector<KeyPress> out;
+    out.swap(presses_);
+    return out;
 }
 
 Window::~Window() {

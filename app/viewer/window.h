@@ -2,6 +2,7 @@
 // The GLFW window and the Vulkan context that can present to it.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <vulkan/vulkan.h>
 
@@ -26,10 +27,18 @@ public:
     bool should_close() const;
     void destroy_surface();  // before the context goes
 
+    // Key presses (and repeats) since the last call, with their modifiers. Kept here because
+    // Dear ImGui 1.86 sees only key state per frame and loses a tap shorter than a slow frame.
+    struct KeyPress {
+        int key, mods;
+    };
+    std::vector<KeyPress> take_key_presses();
+
 private:
     GLFWwindow* window_ = nullptr;
     VkInstance instance_ = VK_NULL_HANDLE;
     VkSurfaceKHR surface_ = VK_NULL_HANDLE;
+    std::vector<KeyPress> presses_;
 };
 
 }  // namespace pg::viewer
