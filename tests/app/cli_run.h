@@ -1,5 +1,5 @@
 #pragma once
-// Runs the pointgauss binary (PG_CLI) as a real process; stdout and stderr together.
+// Runs the pointgauss binary (PG_CLI), or any command, as a real process; stdout and stderr together.
 #include <catch2/catch.hpp>
 
 #include <array>
@@ -14,8 +14,9 @@ struct Run {
     std::string out;
 };
 
-inline Run run_cli(const std::string& args) {
-    std::string cmd = std::string(PG_CLI) + " " + args + " 2>&1";
+// Runs a shell command line; stdout and stderr together.
+inline Run run_command(const std::string& command) {
+    const std::string cmd = command + " 2>&1";
     Run r{0, {}};
     FILE* p = popen(cmd.c_str(), "r");
     REQUIRE(p);
@@ -26,5 +27,7 @@ inline Run run_cli(const std::string& args) {
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
     return r;
 }
+
+inline Run run_cli(const std::string& args) { return run_command(std::string(PG_CLI) + " " + args); }
 
 }  // namespace pg::test

@@ -17,16 +17,7 @@ namespace pg::test {
 
 inline Run run_viewer(const std::string& args) {
     REQUIRE(std::system("command -v xvfb-run >/dev/null 2>&1") == 0);  // tools/setup.sh installs xvfb
-    std::string cmd = "xvfb-run -a -s '-screen 0 1280x1024x24' " + std::string(PG_VIEWER) + " " + args + " 2>&1";
-    Run r{0, {}};
-    FILE* p = popen(cmd.c_str(), "r");
-    REQUIRE(p);
-    std::array<char, 4096> buf;
-    size_t n;
-    while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-    int status = pclose(p);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-    return r;
+    return run_command("xvfb-run -a -s '-screen 0 1280x1024x24' " + std::string(PG_VIEWER) + " " + args);
 }
 
 inline std::filesystem::path write_script(const std::filesystem::path& dir, const nlohmann::json& actions) {
