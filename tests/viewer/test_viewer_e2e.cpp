@@ -7,6 +7,7 @@
 #include <set>
 
 #include "dataset/eval/label_files.h"
+#include "dataset/json_file.h"
 #include "tests/test_paths.h"
 #include "tests/viewer/viewer_run.h"
 
@@ -152,6 +153,8 @@ TEST_CASE("hide, only-selected, delete, undo and redo in the viewer", "[viewer]"
                           {{"click_pixel", {a.u, a.v}}},
                           {{"new_object", "b"}},
                           {{"click_pixel", {b.u, b.v}}},
+                          {{"rename", "cup"}},
+                          {{"recolour", {1.0, 0.0, 0.0}}},
                           shot("s0.png"),
                           labels_only("e0"),
                           {{"hide", true}},
@@ -202,6 +205,11 @@ TEST_CASE("hide, only-selected, delete, undo and redo in the viewer", "[viewer]"
         }
     INFO(dark << " of " << outside << " pixels away from b are background");
     CHECK(dark > outside * 97 / 100);
+    // Rename and recolour reach the exports.
+    const json report = pg::data::read_json_file(dir / "e0" / "report.json");
+    REQUIRE(report["objects"].size() == 2);
+    CHECK(report["objects"][1]["name"] == "cup");
+    CHECK(report["objects"][1]["colour"] == json::array({1.0, 0.0, 0.0}));
     // Delete removes b's labels; undo brings every label back; redo deletes again.
     auto l0 = pg::data::eval::read_gaussian_labels(dir / "e0" / "scene.ply", "instance");
     auto l1 = pg::data::eval::read_gaussian_labels(dir / "e1" / "scene.ply", "instance");
