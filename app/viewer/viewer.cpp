@@ -351,10 +351,12 @@ std::vector<glm::vec4> Viewer::palette() const {
     return p;
 }
 
-FrameRequest Viewer::frame_request(bool mask) const {
+FrameRequest Viewer::frame_request(bool still) const {
     FrameRequest rq;
-    const int vw = std::max(1, int(viewport_.width * render_scale_));
-    const int vh = std::max(1, int(viewport_.height * render_scale_));
+    // A moving camera gets half the resolution: four times fewer pixels keep the motion fluid.
+    const double scale = render_scale_ * (still ? 1.0 : 0.5);
+    const int vw = std::max(1, int(viewport_.width * scale));
+    const int vh = std::max(1, int(viewport_.height * scale));
     if (snapped_ >= 0) {
         const auto& c = scene_.cameras[size_t(snapped_)];
         const double s = std::min(double(vw) / c.width, double(vh) / c.height);
@@ -365,13 +367,13 @@ FrameRequest Viewer::frame_request(bool mask) const {
     rq.labels = labels_;
     rq.labels_version = labels_version_;
     rq.palette = palette();
-    rq.mask = mask && show_mask_ && labels_;
+    rq.mask = still && show_mask_ && labels_;
     return rq;
 }
 
 void Viewer::request_frame() {
     if (viewport_.width <= 0 || viewport_.height <= 0) return;
-    // While the camera moves, skip the mask passes; they come back once it rests.
+    // While the camera moves, frames skip the mask passes; they come back once it rests.
     const bool still = scripted_ || ms_between(last_motion_, Clock::now()) > 250;
     FrameRequest rq = frame_request(still);
     const auto& c = rq.camera;

@@ -56,7 +56,7 @@ private:
     void load(const ViewerOptions& options);
     void update_segmentation();
     void request_frame();
-    FrameRequest frame_request(bool mask) const;
+    FrameRequest frame_request(bool still) const;
     std::vector<glm::vec4> palette() const;
     void handle_input();
     void draw_panels();
