@@ -33,6 +33,13 @@ bool Document::edit(const std::string& what, const std::function<void(DocumentSt
     return true;
 }
 
+void Document::reset(DocumentState state) {
+    state_ = std::move(state);
+    undo_.clear();
+    redo_.clear();
+    ++version_;
+}
+
 bool Document::undo() {
     if (undo_.empty()) return false;
     redo_.push_back({undo_.back().what, std::move(state_)});

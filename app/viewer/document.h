@@ -45,6 +45,8 @@ public:
     // Applies `change` to a copy of the state; if it changed anything the old state goes on the
     // undo stack (labelled `what`) and the redo stack is cleared. Returns whether it changed.
     bool edit(const std::string& what, const std::function<void(DocumentState&)>& change);
+    // Starts over from `state` with no history (a loaded prompts.json).
+    void reset(DocumentState state);
     bool undo();
     bool redo();
     bool can_undo() const { return !undo_.empty(); }

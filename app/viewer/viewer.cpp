@@ -15,6 +15,7 @@
 #include "dataset/error.h"
 #include "dataset/image_io.h"
 #include "dataset/orbit.h"
+#include "dataset/prompts.h"
 #include "dataset/scene_io.h"
 
 namespace pg::viewer {
@@ -72,6 +73,7 @@ Viewer::Viewer(const ViewerOptions& options) : options_(options) {
     inbox_.wake = [] { glfwPostEmptyEvent(); };
     frames_ = std::make_unique<Worker>(true);
     jobs_ = std::make_unique<Worker>(false);
+    if (!options.prompts.empty()) load_prompts(options.prompts);
     render_scale_ = options.render_scale > 0 ? options.render_scale
                                              : (ctx_->info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 0.5 : 1.0);
     if (scripted_) render_scale_ = options.render_scale > 0 ? options.render_scale : 1.0;
@@ -136,6 +138,50 @@ void Viewer::load(const ViewerOptions& o) {
         throw data::InputError("--model", "no model found (set PG_MODEL or give --model FILE.safetensors)");
     decoder_ = o.model == "ground-truth" ? "ground-truth" : decoders_.front();
     export_folder_ = o.out.empty() ? (fs::path(o.scene).stem().string() + "-segmentation") : o.out;
+}
+
+// Objects and clicks of a prompts.json (a `segment` input or an earlier export). View clicks are
+// lifted on the job thread for their markers; the file's clicks stay as they are, so exporting
+// again writes the same prompts.
+void Viewer::load_prompts(const std::string& path) {
+    const data::Prompts prompts = data::read_prompts(path);
+    for (const auto& o : prompts.objects)
+        for (const auto& c : o.clicks)
+            if (!c.point && std::none_of(scene_.cameras.begin(), scene_.cameras.end(),
+                                         [&](auto& cam) { return cam.name == c.view; }))
+                throw data::InputError(path, "object '" + o.name + "' clicks in view '" + c.view +
+                                                 "', which is not one of the scene's cameras");
+    jobs_->post([this, prompts, path] {
+        DocumentState state;
+        std::string error;
+        try {
+            for (const auto& op : prompts.objects) {
+                Object o;
+                o.id = op.id;
+                o.name = op.name;
+                o.colour = default_object_colour(op.id);
+                for (const auto& c : op.clicks) {
+                    glm::dvec3 anchor = c.point ? *c.point : glm::dvec3(0.0);
+                    if (!c.point) {
+                        const auto& cam = *std::find_if(scene_.cameras.begin(), scene_.cameras.end(),
+                                                        [&](auto& k) { return k.name == c.view; });
+                        anchor = job_engine_->lift(cam, c.u, c.v, c.positive).position;
+                    }
+                    o.clicks.push_back(Click{c, anchor});
+                }
+                state.next_id = std::max(state.next_id, o.id + 1);
+                state.objects.push_back(std::move(o));
+            }
+            if (!state.objects.empty()) state.selected = state.objects.front().id;
+        } catch (const std::exception& e) {
+            error = e.what();
+        }
+        inbox_.post([this, state, error, path] {
+            if (!error.empty()) return status(path + ": " + error, true);
+            doc_.reset(state);
+            status("loaded " + std::to_string(state.objects.size()) + " object(s) from " + path);
+        });
+    });
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -22,7 +22,7 @@
 namespace pg::viewer {
 
 struct ViewerOptions {
-    std::string scene, cameras, model, up = "auto", device, script, screenshot, out;
+    std::string scene, cameras, model, up = "auto", device, script, screenshot, out, prompts;
     int width = 1400, height = 860;
     double render_scale = 0;  // 0: 1 on a GPU, 0.5 on a CPU device
 };
@@ -54,6 +54,7 @@ private:
     };
 
     void load(const ViewerOptions& options);
+    void load_prompts(const std::string& path);
     void update_segmentation();
     void request_frame();
     FrameRequest frame_request(bool still) const;

@@ -278,3 +278,33 @@ TEST_CASE("the real guitar scene opens, gets an orbit, and a click outlines the 
     auto labels = pg::data::eval::read_gaussian_labels(dir / "export" / "scene.ply", "instance");
     CHECK(std::count(labels.begin(), labels.end(), 1) > 1000);
 }
+
+TEST_CASE("the viewer starts from a prompts.json and labels every Gaussian as segment does", "[viewer]") {
+    const fs::path dir = pg::test::scratch("viewer-prompts");
+    for (const char* e : {"export", "replay"}) fs::remove_all(dir / e);
+    const fs::path prompts = kScene / "prompts.json";
+    auto script = pg::test::write_script(
+        dir, json::array({{{"export", {{"folder", (dir / "export").string()}, {"masks", false}}}}}));
+    Run r = pg::test::run_viewer(viewer_args(script, "--prompts " + prompts.string()));
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    Run s = pg::test::run_cli("segment " + (kScene / "scene.ply").string() + " --cameras " +
+                              (kScene / "cameras.json").string() + " --prompts " + prompts.string() +
+                              " --model ground-truth --views none --out " + (dir / "replay").string());
+    INFO(s.out);
+    REQUIRE(s.code == 0);
+    auto viewer_labels = pg::data::eval::read_gaussian_labels(dir / "export" / "scene.ply", "instance");
+    auto segment_labels = pg::data::eval::read_gaussian_labels(dir / "replay" / "scene.ply", "instance");
+    std::set<int32_t> ids(viewer_labels.begin(), viewer_labels.end());
+    CHECK(ids.size() == 11);  // the sample's 10 objects and 0
+    REQUIRE(viewer_labels == segment_labels);
+    // Exported again, the prompts are the ones loaded.
+    CHECK(pg::data::read_json_file(dir / "export" / "prompts.json") == pg::data::read_json_file(prompts));
+
+    // A prompts file naming a view the scene lacks is refused with one error naming it.
+    std::ofstream(dir / "bad.json") << R"({"objects": [{"name": "x", "clicks": [{"view": "nope", "u": 1, "v": 1}]}]})";
+    Run bad = pg::test::run_viewer((kScene / "scene.ply").string() + " --model ground-truth --prompts " +
+                                   (dir / "bad.json").string());
+    CHECK(bad.code == 1);
+    CHECK(bad.out.find("'nope'") != std::string::npos);
+}
