@@ -170,4 +170,15 @@ TEST_CASE("prompts, segment and eval run the benchmark protocol on the bundled s
                  " --model ground-truth --views none --out " + (dir / "bad").string());
     CHECK(b.code == 1);
     CHECK(b.out.find("off the") != std::string::npos);
+    // Outputs never overwrite inputs: segmenting into the scene's own folder is refused.
+    auto own = dir / "own";
+    fs::create_directories(own);
+    fs::copy_file(fs::path(sample()) / "scene.ply", own / "scene.ply");
+    const auto before = fs::file_size(own / "scene.ply");
+    auto o = run("segment " + (own / "scene.ply").string() + " --cameras " + sample() + "/cameras.json --prompts " +
+                 prompts + " --model ground-truth --views none --out " + own.string());
+    CHECK(o.code == 1);
+    CHECK(o.out.find("is an input of this run") != std::string::npos);
+    CHECK(fs::file_size(own / "scene.ply") == before);
+    CHECK_FALSE(fs::exists(own / "report.json"));
 }
