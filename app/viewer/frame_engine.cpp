@@ -34,6 +34,12 @@ FramePicture FrameEngine::render(const FrameRequest& rq) {
     view.height = h;
     view.rgba = vk::download_vector<float>(ctx_, renderer_.image_buffer(), size_t(w) * h * 4);
     view.labels.assign(size_t(w) * h, 0);
+    if (labelled) {  // what is under each pixel, for picking objects by clicking them
+        const auto aux = vk::download_vector<glm::uvec4>(ctx_, renderer_.aux_buffer(), size_t(w) * h);
+        out.object.resize(aux.size());
+        for (size_t p = 0; p < aux.size(); ++p)
+            out.object[p] = aux[p].z < rq.labels->size() ? (*rq.labels)[aux[p].z] : 0;
+    }
     if (rq.mask && labelled && masks_) {
         seg::MaskViewsOptions mo;
         mo.render = rq.settings;

@@ -29,6 +29,7 @@ struct FramePicture {
     uint64_t id = 0;
     data::Camera camera;        // what was rendered (its size is the picture's)
     std::vector<uint8_t> rgba;  // RGBA8, row-major
+    std::vector<int32_t> object;  // per pixel: the object whose Gaussian made it opaque, 0 for none
     bool mask = false;
     double render_ms = 0, mask_ms = 0;  // GPU time of the splat render and of the mask passes
     double wall_ms = 0;

@@ -58,7 +58,7 @@ void Viewer::draw_panels() {
         ImGui::SetNextItemWidth(200);
         if (ImGui::SliderFloat("render scale", &scale, 0.25f, 1.0f, "%.2f")) render_scale_ = scale;
         ImGui::TextDisabled("drag: orbit, right drag: pan, wheel: zoom\nWASD QE: fly, [ ]: cameras\n"
-                            "click: positive, ctrl/right click: negative");
+                            "click: positive, ctrl/right click: negative\nalt+click: select the object under it");
     }
 
     if (ImGui::CollapsingHeader("Objects", ImGuiTreeNodeFlags_DefaultOpen)) {

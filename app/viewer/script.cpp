@@ -10,7 +10,7 @@ namespace pg::viewer {
 namespace {
 
 const std::set<std::string> kKinds = {"snap",   "orbit",   "pan",      "zoom",   "frame",      "new_object",
-                                      "click",  "click_pixel", "select", "rename", "recolour", "hide",
+                                      "click",  "click_pixel", "pick", "select", "rename", "recolour", "hide",
                                       "delete", "isolate", "tints",    "mask",   "decoder",    "undo",
                                       "redo",   "export",  "screenshot"};
 const std::set<std::string> kOptions = {"negative", "view", "wait"};
@@ -50,7 +50,7 @@ std::vector<Action> read_script(const std::filesystem::path& path) {
         need(!act.kind.empty(), where, "names no action");
         const auto& v = act.value;
         const std::string& k = act.kind;
-        if (k == "click" || k == "click_pixel" || k == "orbit" || k == "pan")
+        if (k == "click" || k == "click_pixel" || k == "pick" || k == "orbit" || k == "pan")
             need(numbers(v, 2), where, "'" + k + "' expects two numbers");
         else if (k == "recolour")
             need(numbers(v, 3), where, "'recolour' expects [r, g, b] in 0..1");

@@ -9,7 +9,7 @@
 //   {"new_object": "mug"},
 //   {"click": [0.5, 0.4]},                where, as fractions of the picture (x right, y down)
 //   {"click_pixel": [120, 88], "negative": true},   a pixel of the snapped dataset camera
-//   {"select": 2}, {"rename": "cup"}, {"recolour": [1, 0.5, 0]}, {"hide": true}, {"delete": true},
+//   {"select": 2}, {"pick": [0.5, 0.4]} (the object under that point), {"rename": "cup"}, {"recolour": [1, 0.5, 0]}, {"hide": true}, {"delete": true},
 //   {"isolate": true}, {"tints": true}, {"mask": false}, {"decoder": "ground-truth"},
 //   {"undo": 1}, {"redo": 1},
 //   {"export": "out/dir"} or {"export": {"folder": "out/dir", "masks": false, ...}},

@@ -242,6 +242,13 @@ void Viewer::frame_scene() {
     last_motion_ = Clock::now();
 }
 
+int Viewer::object_at(double x, double y) const {
+    if (!picture_valid_ || picture_.object.empty() || x < 0 || y < 0 || x >= 1 || y >= 1) return 0;
+    const int w = picture_.camera.width, h = picture_.camera.height;
+    const int id = picture_.object[size_t(int(y * h)) * w + int(x * w)];
+    return doc_.find(id) ? id : 0;
+}
+
 void Viewer::click_at(double x, double y, bool positive) {
     if (!picture_valid_ || x < 0 || y < 0 || x >= 1 || y >= 1) return;
     data::Camera cam = picture_.camera;
@@ -469,8 +476,13 @@ void Viewer::handle_input() {
             if (!ImGui::IsMouseReleased(b) || !in_view) continue;
             const ImVec2 drag = io.MouseDragMaxDistanceSqr[b] > 16.0f ? ImVec2(1, 1) : ImVec2(0, 0);
             double x, y;
-            if (drag.x == 0 && picture_fraction(m, x, y)) click_at(x, y, b == 0 && !io.KeyCtrl);
+            if (drag.x != 0 || !picture_fraction(m, x, y)) continue;
+            if (io.KeyAlt) doc_.select(object_at(x, y));  // Alt+click picks an object, as in the list
+            else click_at(x, y, b == 0 && !io.KeyCtrl);
         }
+        double hx, hy;
+        if (in_view && picture_fraction(m, hx, hy) && !ImGui::IsAnyMouseDown())
+            if (const Object* o = doc_.find(object_at(hx, hy))) ImGui::SetTooltip("%s", o->name.c_str());
         if (in_view && ImGui::IsMouseDragging(0) && !io.KeyShift) {
             orbit(-0.3 * io.MouseDelta.x, 0.3 * io.MouseDelta.y);
         } else if (in_view && (ImGui::IsMouseDragging(1) || ImGui::IsMouseDragging(2) ||
@@ -605,6 +617,10 @@ void Viewer::run_action(const Action& a) {
         }
         if (x < 0 || y < 0 || x >= 1 || y >= 1) fail("the click lies outside the picture");
         click_at(x, y, !a.extra.value("negative", false));
+    } else if (k == "pick") {
+        const int id = object_at(v[0].get<double>(), v[1].get<double>());
+        if (!id) fail("no object under " + v.dump());
+        doc_.select(id);
     } else if (k == "select") {
         if (!doc_.select(v.get<int>()) && doc_.state().selected != v.get<int>()) fail("no object " + v.dump());
     } else if (k == "rename" || k == "recolour" || k == "hide" || k == "delete") {

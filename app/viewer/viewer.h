@@ -35,6 +35,7 @@ public:
 
     // Actions.
     void click_at(double picture_x, double picture_y, bool positive);  // fractions of the picture
+    int object_at(double picture_x, double picture_y) const;            // 0: none
     void snap(int camera);                                              // -1: free camera
     void orbit(double yaw, double pitch);
     void pan(double right, double down);

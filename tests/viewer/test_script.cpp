@@ -27,14 +27,14 @@ TEST_CASE("a script with every action parses in order", "[viewer]") {
     auto actions = pg::viewer::read_script(write("all.json", R"({"actions": [
         {"snap": 0}, {"snap": "view_001"}, {"orbit": [10, -5]}, {"pan": [0.1, 0]}, {"zoom": 0.8},
         {"frame": true}, {"new_object": "mug"}, {"click": [0.5, 0.5]}, {"click_pixel": [10, 20], "negative": true},
-        {"select": 1}, {"rename": "cup"}, {"recolour": [1, 0, 0]}, {"hide": false}, {"isolate": true},
+        {"select": 1}, {"pick": [0.5, 0.5]}, {"rename": "cup"}, {"recolour": [1, 0, 0]}, {"hide": false}, {"isolate": true},
         {"tints": true}, {"mask": false}, {"decoder": "ground-truth"}, {"undo": 2}, {"redo": 1},
         {"export": "out"}, {"export": {"folder": "o2", "masks": false}}, {"screenshot": "a.png", "view": true},
         {"delete": true}]})"));
-    REQUIRE(actions.size() == 23);
+    REQUIRE(actions.size() == 24);
     REQUIRE(actions[8].kind == "click_pixel");
     REQUIRE(actions[8].extra.value("negative", false));
-    REQUIRE(actions[21].extra.value("view", false));
+    REQUIRE(actions[22].extra.value("view", false));
 }
 
 TEST_CASE("script errors name the file, the action and the reason", "[viewer]") {

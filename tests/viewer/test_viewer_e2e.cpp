@@ -153,6 +153,9 @@ TEST_CASE("hide, only-selected, delete, undo and redo in the viewer", "[viewer]"
                           {{"click_pixel", {a.u, a.v}}},
                           {{"new_object", "b"}},
                           {{"click_pixel", {b.u, b.v}}},
+                          {{"pick", {a.u / 320.0, a.v / 240.0}}},
+                          {{"rename", "mug"}},
+                          {{"pick", {b.u / 320.0, b.v / 240.0}}},
                           {{"rename", "cup"}},
                           {{"recolour", {1.0, 0.0, 0.0}}},
                           shot("s0.png"),
@@ -205,9 +208,10 @@ TEST_CASE("hide, only-selected, delete, undo and redo in the viewer", "[viewer]"
         }
     INFO(dark << " of " << outside << " pixels away from b are background");
     CHECK(dark > outside * 97 / 100);
-    // Rename and recolour reach the exports.
+    // Picking selects the object under the point; rename and recolour reach the exports.
     const json report = pg::data::read_json_file(dir / "e0" / "report.json");
     REQUIRE(report["objects"].size() == 2);
+    CHECK(report["objects"][0]["name"] == "mug");  // picked by clicking it
     CHECK(report["objects"][1]["name"] == "cup");
     CHECK(report["objects"][1]["colour"] == json::array({1.0, 0.0, 0.0}));
     // Delete removes b's labels; undo brings every label back; redo deletes again.
