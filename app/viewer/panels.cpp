@@ -100,23 +100,22 @@ void Viewer::draw_panels() {
 
         if (const Object* sel = doc_.selected()) {
             const int id = sel->id;
-            static char name[128];
-            static int name_for = -1;
-            static uint64_t name_version = 0;
-            if (name_for != id || name_version != doc_.version()) {
-                std::snprintf(name, sizeof name, "%s", sel->name.c_str());
-                name_for = id;
-                name_version = doc_.version();
+            auto& ps = panel_;
+            if (ps.name_for != id || ps.name_version != doc_.version()) {
+                std::snprintf(ps.name, sizeof ps.name, "%s", sel->name.c_str());
+                ps.name_for = id;
+                ps.name_version = doc_.version();
             }
             ImGui::SetNextItemWidth(200);
-            ImGui::InputText("name", name, sizeof name);
-            if (ImGui::IsItemDeactivatedAfterEdit()) doc_.rename(id, name);
-            static float colour[3];
-            static bool editing_colour = false;
-            if (!editing_colour) colour[0] = sel->colour.r, colour[1] = sel->colour.g, colour[2] = sel->colour.b;
-            ImGui::ColorEdit3("colour", colour, ImGuiColorEditFlags_NoInputs);
-            editing_colour = ImGui::IsItemActive();
-            if (ImGui::IsItemDeactivatedAfterEdit()) doc_.recolour(id, glm::vec3(colour[0], colour[1], colour[2]));
+            ImGui::InputText("name", ps.name, sizeof ps.name);
+            if (ImGui::IsItemDeactivatedAfterEdit()) doc_.rename(id, ps.name);
+            // One undo step per colour pick: the edit lands when the picker is let go.
+            if (!ps.editing_colour)
+                for (int c = 0; c < 3; ++c) ps.colour[c] = sel->colour[c];
+            ImGui::ColorEdit3("colour", ps.colour, ImGuiColorEditFlags_NoInputs);
+            ps.editing_colour = ImGui::IsItemActive();
+            if (ImGui::IsItemDeactivatedAfterEdit())
+                doc_.recolour(id, glm::vec3(ps.colour[0], ps.colour[1], ps.colour[2]));
             bool hidden = sel->hidden;
             if (ImGui::Checkbox("hidden (H)", &hidden)) doc_.set_hidden(id, hidden);
             ImGui::SameLine();
@@ -131,11 +130,10 @@ void Viewer::draw_panels() {
     }
 
     if (ImGui::CollapsingHeader("Export", ImGuiTreeNodeFlags_DefaultOpen)) {
-        static char folder[512];
-        static bool init = false;
-        if (!init) std::snprintf(folder, sizeof folder, "%s", export_folder_.c_str()), init = true;
+        if (!panel_.folder_set) std::snprintf(panel_.folder, sizeof panel_.folder, "%s", export_folder_.c_str());
+        panel_.folder_set = true;
         ImGui::SetNextItemWidth(250);
-        if (ImGui::InputText("folder", folder, sizeof folder)) export_folder_ = folder;
+        if (ImGui::InputText("folder", panel_.folder, sizeof panel_.folder)) export_folder_ = panel_.folder;
         const bool running = export_ && export_->running;
         ImGui::BeginDisabled(running || !labels_);
         if (ImGui::Button("Everything")) export_to(export_folder_, true, true, true, true);

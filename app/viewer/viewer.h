@@ -116,6 +116,17 @@ private:
     bool status_error_ = false;
     int errors_ = 0;
 
+    // Panel edits in progress (ImGui keeps no state of its own for them).
+    struct PanelState {
+        char name[128] = {};
+        int name_for = -1;
+        uint64_t name_version = 0;
+        float colour[3] = {};
+        bool editing_colour = false;
+        char folder[512] = {};
+        bool folder_set = false;
+    } panel_;
+
     // Script.
     bool scripted_ = false;  // --script or --screenshot: replay, capture, quit
     std::vector<Action> script_;
