@@ -144,5 +144,5 @@ TEST_CASE("segment defaults to the shipped model and it finds the clicked object
         ++objects;
     }
     CHECK(objects == 10);
-    CHECK(iou_sum / objects > 0.35);  // 0.49 with the shipped model on lavapipe
+    CHECK(iou_sum / objects > 0.35);  // 0.57 with the shipped model on lavapipe
 }
