@@ -2,6 +2,7 @@
 // Runs the pointgauss binary (PG_CLI), or any command, as a real process; stdout and stderr together.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <string>
@@ -29,5 +30,7 @@ inline Run run_command(const std::string& command) {
 }
 
 inline Run run_cli(const std::string& args) { return run_command(std::string(PG_CLI) + " " + args); }
+
+inline size_t count_lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
 
 }  // namespace pg::test

@@ -23,8 +23,6 @@ Run run(const std::string& args) { return pg::test::run_cli(args); }
 
 std::string sample() { return (pg::test::source_dir() / "assets/sample/desk_000").string(); }
 
-size_t count_lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
-
 }  // namespace
 
 TEST_CASE("the bundled sample scene is exactly what its generator makes") {
@@ -100,7 +98,7 @@ TEST_CASE("bad input is one clear line, a non-zero exit and no output") {
         CHECK(r.code != 0);
         CHECK(r.out.find("error: ") != std::string::npos);
         CHECK(r.out.find(c.must_name) != std::string::npos);
-        CHECK(count_lines(r.out) == 1);
+        CHECK(pg::test::count_lines(r.out) == 1);
         CHECK_FALSE(fs::exists(out / "view_000.png"));
     }
 }

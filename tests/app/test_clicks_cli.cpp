@@ -22,8 +22,6 @@ namespace {
 using pg::test::Run;
 Run run(const std::string& args) { return pg::test::run_cli(args); }
 
-size_t count_lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
-
 // Two small desk scenes (made once per test binary run).
 fs::path tiny_suite() {
     static const fs::path dir = [] {
@@ -168,7 +166,7 @@ TEST_CASE("clicks: bad input is one clear line, a non-zero exit and nothing writ
         CHECK(r.code == 1);
         CHECK(r.out.rfind("error: ", 0) == 0);
         CHECK(r.out.find(c.says) != std::string::npos);
-        CHECK(count_lines(r.out) == 1);
+        CHECK(pg::test::count_lines(r.out) == 1);
         CHECK_FALSE(fs::exists(pred));
         CHECK_FALSE(fs::exists(suite / "desk_000" / "clicks.json"));
     }

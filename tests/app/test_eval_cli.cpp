@@ -25,8 +25,6 @@ namespace {
 using pg::test::Run;
 Run run(const std::string& args) { return pg::test::run_cli(args); }
 
-size_t count_lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
-
 void write_labels(const fs::path& ply, const std::vector<int32_t>& labels) {
     pg::data::GaussianCloud c;
     c.resize(labels.size());
@@ -84,7 +82,7 @@ TEST_CASE("eval: bad input is one line naming the file with exit 1 and no JSON w
     CHECK(r.code == 1);
     CHECK(r.out.rfind("error: ", 0) == 0);
     CHECK(r.out.find(bad_mask.string()) != std::string::npos);
-    CHECK(count_lines(r.out) == 1);
+    CHECK(pg::test::count_lines(r.out) == 1);
     CHECK_FALSE(fs::exists(report));
 
     auto s = run("eval --gt " + (dir / "suite").string() + " --pred " + (dir / "pred").string() + " --split val");
