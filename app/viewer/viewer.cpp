@@ -325,26 +325,41 @@ void Viewer::export_to(const std::string& folder, bool scene, bool objects, bool
 // ---------------------------------------------------------------------------------------------
 // Segmentation: one object per job, cached by what determines its result.
 
-std::string Viewer::signature(const data::ObjectPrompt& p, size_t k) const {
-    nlohmann::json j;
-    j["k"] = k;
-    j["decoder"] = decoder_;
-    for (auto& c : p.clicks) {
-        nlohmann::json jc{{"positive", c.positive}};
-        if (c.point) jc["point"] = {c.point->x, c.point->y, c.point->z};
-        else jc["view"] = {c.view, c.u, c.v};
-        j["clicks"].push_back(jc);
+const Viewer::Wanted& Viewer::wanted() const {
+    if (wanted_.version == doc_.version() && wanted_.decoder == decoder_) return wanted_;
+    wanted_.version = doc_.version();
+    wanted_.decoder = decoder_;
+    wanted_.prompts = doc_.prompts();
+    wanted_.signatures.clear();
+    for (size_t k = 0; k < wanted_.prompts.objects.size(); ++k) {
+        nlohmann::json j;
+        j["k"] = k;
+        j["decoder"] = decoder_;
+        for (auto& c : wanted_.prompts.objects[k].clicks) {
+            nlohmann::json jc{{"positive", c.positive}};
+            if (c.point) jc["point"] = {c.point->x, c.point->y, c.point->z};
+            else jc["view"] = {c.view, c.u, c.v};
+            j["clicks"].push_back(jc);
+        }
+        wanted_.signatures.push_back(j.dump());
     }
-    return j.dump();
+    return wanted_;
+}
+
+bool Viewer::current(size_t k) const {
+    const Wanted& w = wanted();
+    auto it = cache_.find(w.prompts.objects[k].id);
+    return it != cache_.end() && it->second.signature == w.signatures[k];
 }
 
 void Viewer::update_segmentation() {
-    const data::Prompts prompts = doc_.prompts();
+    const Wanted& w = wanted();
+    const auto& prompts = w.prompts;
     if (!segment_in_flight_) {
         for (size_t k = 0; k < prompts.objects.size(); ++k) {
+            if (current(k)) continue;
             const auto& op = prompts.objects[k];
-            const std::string sig = signature(op, k);
-            if (cache_[op.id].signature == sig) continue;
+            const std::string sig = w.signatures[k];
             segment_in_flight_ = true;
             const std::string decoder = decoder_;
             jobs_->post([this, op, k, sig, decoder] {
@@ -368,19 +383,18 @@ void Viewer::update_segmentation() {
             break;
         }
     }
-    // Labels from every object whose cached result is current (ties go to the earlier object).
+    // Labels from every object whose cached result is current (ties go to the earlier object),
+    // assembled only when that set changes.
     std::string key;
-    seg::SegmentResult result;
-    for (size_t k = 0; k < prompts.objects.size(); ++k) {
-        auto it = cache_.find(prompts.objects[k].id);
-        if (it == cache_.end() || !it->second.result || it->second.signature != signature(prompts.objects[k], k))
-            continue;
-        key += std::to_string(it->first) + ":" + it->second.signature + ";";
-        result.objects.push_back(*it->second.result);
-        result.objects.back().id = prompts.objects[k].id;
-    }
+    for (size_t k = 0; k < prompts.objects.size(); ++k)
+        if (current(k) && cache_.at(prompts.objects[k].id).result)
+            key += std::to_string(prompts.objects[k].id) + ":" + w.signatures[k] + ";";
     if (key == assembled_key_) return;
     assembled_key_ = key;
+    seg::SegmentResult result;
+    for (size_t k = 0; k < prompts.objects.size(); ++k)
+        if (current(k) && cache_.at(prompts.objects[k].id).result)
+            result.objects.push_back(*cache_.at(prompts.objects[k].id).result);
     result.assemble(scene_.cloud.size());
     labelled_count_.clear();
     for (auto& o : result.objects) labelled_count_[o.id] = o.labelled;
@@ -575,11 +589,8 @@ void Viewer::draw_markers() {
 
 bool Viewer::idle(bool workers_idle) const {
     if (!workers_idle || segment_in_flight_) return false;
-    const data::Prompts prompts = doc_.prompts();
-    for (size_t k = 0; k < prompts.objects.size(); ++k) {
-        auto it = cache_.find(prompts.objects[k].id);
-        if (it == cache_.end() || it->second.signature != signature(prompts.objects[k], k)) return false;
-    }
+    for (size_t k = 0; k < wanted().prompts.objects.size(); ++k)
+        if (!current(k)) return false;
     return picture_valid_ && picture_.id == request_id_;
 }
 

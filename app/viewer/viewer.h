@@ -67,7 +67,16 @@ private:
     void run_action(const Action& a);
     void status(const std::string& text, bool error = false);
     void leave_snap();
-    std::string signature(const data::ObjectPrompt& p, size_t k) const;
+    // The objects to segment (prompts.json order) and what determines each one's result, recomputed
+    // only when the document or the decoder changes.
+    struct Wanted {
+        uint64_t version = ~0ull;
+        std::string decoder;
+        data::Prompts prompts;
+        std::vector<std::string> signatures;
+    };
+    const Wanted& wanted() const;
+    bool current(size_t k) const;  // object k's cached result is for its present clicks
 
     ViewerOptions options_;
     SceneData scene_;
@@ -101,6 +110,7 @@ private:
     std::vector<std::string> decoders_;
     std::string decoder_;
     std::map<int, Cached> cache_;
+    mutable Wanted wanted_;
     bool segment_in_flight_ = false;
     std::string assembled_key_;
     std::shared_ptr<const std::vector<int32_t>> labels_;
