@@ -10,7 +10,9 @@ voxels, in float64, stored as float32:
 - BatchNorm normalises with the batch statistics (biased variance) and updates its running
   statistics with momentum 0.01 (unbiased variance), as torch's BatchNorm1d in train();
   LayerNorm as at inference; no dropout, no drop path.
-- loss = mean softmax cross-entropy over the points whose label is not -1.
+- loss = mean softmax cross-entropy over the points whose label is not -1; and again (as
+  grads_lovasz.safetensors) with the Lovasz-softmax loss added (Berman et al.: per class present,
+  errors |fg - p| sorted descending, dotted with the Lovasz gradient of the sorted foreground).
 
 The script checks its own gradients against central finite differences of the float64
 loss and fails if the worst relative error reaches 1e-5. Deterministic: same bytes every run.
@@ -66,10 +68,46 @@ def load_weights():
     return tensors, config
 
 
-def train_forward(model, coord, feat, offsets, labels, trace=None):
+def lovasz_softmax(logits, labels):
+    """Mean over the classes present of the Lovasz extension of the Jaccard loss at the errors."""
+    keep = labels != IGNORE
+    prob = F.softmax(logits[keep], dim=1)
+    target = labels[keep]
+    losses = []
+    for c in range(prob.shape[1]):
+        fg = (target == c).to(prob.dtype)
+        if fg.sum() == 0:
+            continue
+        errors = (fg - prob[:, c]).abs()
+        errors_sorted, order = torch.sort(errors, descending=True, stable=True)
+        fg_sorted = fg[order]
+        gts = fg_sorted.sum()
+        jaccard = 1.0 - (gts - fg_sorted.cumsum(0)) / (gts + (1.0 - fg_sorted).cumsum(0))
+        grad = torch.cat([jaccard[:1], jaccard[1:] - jaccard[:-1]])
+        losses.append(torch.dot(errors_sorted, grad))
+    return torch.stack(losses).mean()
+
+
+def lovasz_margin(logits, labels):
+    """Smallest gap between errors adjacent in a class's sorted order: a float32 trainer sorts
+    them the same way when this is well above its logits' error."""
+    keep = labels != IGNORE
+    prob = F.softmax(logits.detach()[keep], dim=1)
+    target = labels[keep]
+    worst = np.inf
+    for c in range(prob.shape[1]):
+        e = np.sort((( target == c).to(prob.dtype) - prob[:, c]).abs().numpy())
+        worst = min(worst, float(np.min(np.diff(e))))
+    return worst
+
+
+def train_forward(model, coord, feat, offsets, labels, trace=None, lovasz=False):
     with training_mode():
         logits = model(coord, feat, offsets=offsets, trace=trace)
-    loss = F.cross_entropy(logits, torch.from_numpy(labels.astype(np.int64)), ignore_index=IGNORE)
+    target = torch.from_numpy(labels.astype(np.int64))
+    loss = F.cross_entropy(logits, target, ignore_index=IGNORE)
+    if lovasz:
+        loss = loss + lovasz_softmax(logits, target)
     return loss, logits
 
 
@@ -187,7 +225,7 @@ def fd_entries(model, rng):
     return out
 
 
-def fd_check(tensors, config, batch, grads):
+def fd_check(tensors, config, batch, grads, lovasz=False):
     coord, feat, offsets, labels = batch
     model = ref.load_model(tensors, config, torch.float64)
     probe = copy.deepcopy(model)
@@ -204,9 +242,9 @@ def fd_check(tensors, config, batch, grads):
         flat = params[name].view(-1)
         v0 = float(flat[i])
         flat[i] = v0 + FD_STEP
-        up, _ = train_forward(probe, coord, feat, offsets, labels)
+        up, _ = train_forward(probe, coord, feat, offsets, labels, lovasz=lovasz)
         flat[i] = v0 - FD_STEP
-        down, _ = train_forward(probe, coord, feat, offsets, labels)
+        down, _ = train_forward(probe, coord, feat, offsets, labels, lovasz=lovasz)
         flat[i] = v0
         fd = (float(up) - float(down)) / (2 * FD_STEP)
         g = float(grads[name].reshape(-1)[i])
@@ -218,10 +256,10 @@ def fd_check(tensors, config, batch, grads):
 
 # ----------------------------------------------------------------------------- main
 
-def run_step(tensors, config, dtype, batch, trace=None):
+def run_step(tensors, config, dtype, batch, trace=None, lovasz=False):
     coord, feat, offsets, labels = batch
     model = ref.load_model(tensors, config, dtype)
-    loss, logits = train_forward(model, coord, feat, offsets, labels, trace=trace)
+    loss, logits = train_forward(model, coord, feat, offsets, labels, trace=trace, lovasz=lovasz)
     loss.backward()
     grads = {}
     for name, p in model.named_parameters():
@@ -271,6 +309,15 @@ def main():
                 r["name"], r["index"], r["autograd"], r["finite_difference"], r["relative_error"]))
         raise RuntimeError("gradients disagree with finite differences (%.3e >= %g)" % (fd_worst, FD_LIMIT))
 
+    # the same step with the Lovasz loss added
+    _, loss_lv, _, grads_lv = run_step(tensors, config, torch.float64, batch, lovasz=True)
+    lv_margin = lovasz_margin(logits, torch.from_numpy(labels.astype(np.int64)))
+    fd_lv_worst, fd_lv_rows = fd_check(tensors, config, batch, grads_lv, lovasz=True)
+    print("with Lovasz: loss %.9f, finite differences max relative error %.3e, sorted error min gap %.3e"
+          % (float(loss_lv), fd_lv_worst, lv_margin))
+    if not fd_lv_worst < FD_LIMIT:
+        raise RuntimeError("Lovasz gradients disagree with finite differences (%.3e >= %g)" % (fd_lv_worst, FD_LIMIT))
+
     # files
     fx.write_input(out, "input", coord, feat, info)
     with open(os.path.join(out, "labels.bin"), "wb") as f:
@@ -292,6 +339,11 @@ def main():
             "computed_in": "float64, stored as float32",
             "source": "tools/make_ptv3_train_fixture.py"}
     st.save(os.path.join(out, "grads.safetensors"), result, meta)
+    result_lv = {k: g.astype(np.float32) for k, g in grads_lv.items()}
+    result_lv["loss"] = np.array([float(loss_lv)], dtype=np.float32)
+    meta_lv = dict(meta, loss="mean softmax cross-entropy + Lovasz-softmax (classes present) over points "
+                              "with label != -1")
+    st.save(os.path.join(out, "grads_lovasz.safetensors"), result_lv, meta_lv)
 
     n_params = sum(g.size for g in grads.values())
     summary = {
@@ -302,7 +354,10 @@ def main():
         "grad_max_abs": float(max(np.abs(g).max() for g in grads.values())),
         "pooling_min_relative_gap": margin,
         "fp32_vs_fp64": fp32_diff,
-        "finite_differences": {"step": FD_STEP, "max_relative_error": fd_worst, "entries": fd_rows}}
+        "finite_differences": {"step": FD_STEP, "max_relative_error": fd_worst, "entries": fd_rows},
+        "lovasz": {"loss": float(loss_lv), "sorted_error_min_gap": lv_margin,
+                   "finite_differences": {"step": FD_STEP, "max_relative_error": fd_lv_worst,
+                                          "entries": fd_lv_rows}}}
     with open(os.path.join(out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=1)
         f.write("\n")

@@ -35,7 +35,7 @@ struct TrainArgs {
     std::string config = "tiny", out, resume;
     int steps = 2000, batch = 2, points = 8192, max_clicks = 3, val_every = 100, val_samples = 24,
         checkpoint_every = 100, calibration = 32, stop_at = 0;
-    double lr = 0.002, weight_decay = 0.05, drop_path = 0.1;
+    double lr = 0.002, weight_decay = 0.05, drop_path = 0.1, lovasz = 0;
     uint64_t seed = 1;
     DeviceOptions device;
 };
@@ -108,6 +108,7 @@ void run_train(const TrainArgs& a) {
     if (a.max_clicks < 0) throw data::InputError("--clicks", "must be 0 or more");
     if (!(a.lr > 0)) throw data::InputError("--lr", "must be positive");
     if (!(a.drop_path >= 0 && a.drop_path < 1)) throw data::InputError("--drop-path", "must be in [0, 1)");
+    if (!(a.lovasz >= 0 && a.lovasz <= 100)) throw data::InputError("--lovasz", "must be in [0, 100]");
     if (std::filesystem::path(a.out).extension() != ".safetensors")
         throw data::InputError("--out", "must end in .safetensors");
     for (const auto& d : a.data)
@@ -149,6 +150,7 @@ void run_train(const TrainArgs& a) {
     auto pool = nn::Pool::create(ctx);
     nn::train::TrainOptions to;
     to.drop_path = a.drop_path;
+    to.lovasz_weight = a.lovasz;
     to.seed = a.seed;
     to.adamw.weight_decay = a.weight_decay;
     auto weights = ckpt ? nn::Ptv3Weights::from_host(*pool, config, ckpt->weights, a.resume)
@@ -181,6 +183,7 @@ void run_train(const TrainArgs& a) {
         nlohmann::json info = {{"steps", step},           {"batch", a.batch},   {"points", a.points},
                                {"max_lr", a.lr},          {"seed", a.seed},     {"device", ctx.info().name},
                                {"train_scenes", drawer.scenes().size()},        {"drop_path", a.drop_path},
+                               {"lovasz", a.lovasz},
                                {"val_iou1", last_val.iou1}, {"val_iou3", last_val.iou3}};
         return std::map<std::string, std::string>{{"training", info.dump()}};
     };
@@ -219,6 +222,7 @@ void run_train(const TrainArgs& a) {
         const double rate = double(step + 1 - start) / elapsed;
         nlohmann::json entry = {{"step", step + 1}, {"loss", r.loss}, {"accuracy", acc}, {"lr", schedule.lr(step)},
                                 {"seconds", step_s}, {"points", labels.size()}};
+        if (a.lovasz > 0) entry["lovasz"] = r.lovasz;
 
         const bool last = step + 1 == a.steps;
         if (val_drawer && ((step + 1) % a.val_every == 0 || last)) {
@@ -279,6 +283,8 @@ void register_train(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--lr", a->lr, "Peak learning rate (OneCycle)")->capture_default_str();
     cmd->add_option("--weight-decay", a->weight_decay, "AdamW weight decay")->capture_default_str();
     cmd->add_option("--drop-path", a->drop_path, "Drop path rate of the deepest block")->capture_default_str();
+    cmd->add_option("--lovasz", a->lovasz, "Weight of a Lovasz-softmax loss added to the cross-entropy (0: off)")
+        ->capture_default_str();
     cmd->add_option("--seed", a->seed, "Seed of weights, samples and drop path")->capture_default_str();
     cmd->add_option("--val-every", a->val_every, "Validate every N steps")->capture_default_str();
     cmd->add_option("--val-samples", a->val_samples, "Fixed validation samples")->capture_default_str();

@@ -110,4 +110,16 @@ struct CrossEntropy {
 CrossEntropy cross_entropy(vk::CommandList& cmd, Pool& pool, const Tensor& logits, const Tensor& labels,
                            int32_t ignore_label = -1);
 
+// Lovasz-softmax loss of logits [M, classes] against labels I32 [M] (Pointcept's LovaszLoss,
+// multiclass mode, over all rows at once): the mean over the classes present among the counted
+// rows of the Lovasz extension of the class's Jaccard loss, evaluated at the errors
+// |[label == c] - softmax_c|. Rows are left out as cross_entropy leaves them out; with none
+// counted the loss and gradient are 0. Both are multiplied by `weight`; loss F32 [1], dlogits
+// [M, classes], on the GPU. Ties in error rank by row, so results are bit-identical run to run.
+struct Lovasz {
+    Tensor loss, dlogits;
+};
+Lovasz lovasz_softmax(vk::CommandList& cmd, Pool& pool, const Tensor& logits, const Tensor& labels,
+                      int32_t ignore_label = -1, float weight = 1.0f);
+
 }  // namespace pg::nn::grad

@@ -298,6 +298,13 @@ StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels,
     cmd.begin_pass("loss");
     Tensor voxel_labels = ops::gather_rows(cmd, pool_, labels_t, st.vox.first);
     grad::CrossEntropy ce = grad::cross_entropy(cmd, pool_, logits, voxel_labels, options_.ignore_label);
+    Tensor dlogits = ce.dlogits, lovasz_loss;
+    if (options_.lovasz_weight > 0) {
+        grad::Lovasz lv = grad::lovasz_softmax(cmd, pool_, logits, voxel_labels, options_.ignore_label,
+                                               float(options_.lovasz_weight));
+        dlogits = ops::add(cmd, pool_, ce.dlogits, lv.dlogits);
+        lovasz_loss = lv.loss;
+    }
     Tensor point_logits = ops::gather_rows(cmd, pool_, logits, st.vox.inverse);
 
     if (mode == Mode::Statistics) {
@@ -306,7 +313,7 @@ StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels,
     }
 
     // Backward.
-    Tensor d = S.linear_back(head_in, "head", ce.dlogits);
+    Tensor d = S.linear_back(head_in, "head", dlogits);
     std::vector<Tensor> d_skips(levels_n);
     for (int s = 0; s < stages - 1; ++s) {
         const std::string p = "dec.dec" + std::to_string(s);
@@ -358,6 +365,10 @@ StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels,
     for (const auto& p : cmd.timings()) r.passes.push_back(p);
     r.voxels = st.vox.count;
     r.loss = download_tensor<float>(ctx, ce.loss)[0];
+    if (lovasz_loss.defined()) {
+        r.lovasz = download_tensor<float>(ctx, lovasz_loss)[0];
+        r.loss += r.lovasz;
+    }
     r.counted = int64_t(download_tensor<uint32_t>(ctx, ce.info)[0]);
     r.logits = download_tensor<float>(ctx, point_logits);
     r.logits.resize(size_t(n * c.num_classes));

@@ -23,11 +23,15 @@ struct TrainOptions {
     double bn_momentum = 0.01;  // BatchNorm running statistics (PTv3's BatchNorm1d)
     AdamWOptions adamw;
     int32_t ignore_label = -1;
+    // Weight of the Lovasz-softmax loss added to the cross-entropy (Pointcept's PTv3 recipe: 1);
+    // 0 = cross-entropy alone.
+    double lovasz_weight = 0;
 };
 
 // One training-mode forward + backward.
 struct StepResult {
-    double loss = 0;             // mean cross-entropy over the counted voxels
+    double loss = 0;             // mean cross-entropy over the counted voxels + the weighted Lovasz loss
+    double lovasz = 0;           // the weighted Lovasz loss alone (0 when off)
     int64_t counted = 0;         // voxels with a label in [0, classes)
     int64_t voxels = 0;
     std::vector<float> logits;   // [n, classes] per input point (its voxel's)

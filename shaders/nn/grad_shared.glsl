@@ -77,6 +77,13 @@ struct CrossEntropyPush {
     uint pad;
 };
 
+// nn/grad_lovasz_*: rows x classes, the ignored label, the loss weight.
+struct LovaszPush {
+    uint rows, classes;
+    int ignore_label;
+    float scale;
+};
+
 // The per-row values nn/grad_cross_entropy_rows writes ([rows, PG_CE_VALUES]) and their sums.
 #define PG_CE_LOSS 0
 #define PG_CE_COUNTED 1

@@ -94,6 +94,27 @@ TEST_CASE("train writes an interactive model, its log and a checkpoint; chunks r
     CHECK(seg.code == 0);
 }
 
+TEST_CASE("train --lovasz adds the Lovasz loss and logs it") {
+    const fs::path suite = train_suite();
+    const fs::path dir = pg::test::scratch("cli-train-lovasz");
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    Run r = run(common_args(suite) + " --steps 2 --lovasz 0.5 --out " + (dir / "m.safetensors").string());
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK(json::parse(safetensors_metadata(dir / "m.safetensors")["training"].get<std::string>())["lovasz"] == 0.5);
+    std::ifstream log(dir / "m.log.jsonl");
+    int lines = 0;
+    for (std::string line; std::getline(log, line); ++lines) {
+        const json e = json::parse(line);
+        // Half a Lovasz loss (in (0, 1]) inside the total.
+        CHECK(e["lovasz"].get<double>() > 0);
+        CHECK(e["lovasz"].get<double>() <= 0.5);
+        CHECK(e["loss"].get<double>() > e["lovasz"].get<double>());
+    }
+    CHECK(lines == 2);
+}
+
 TEST_CASE("train: bad arguments are one clear error and nothing is written") {
     const fs::path suite = train_suite();
     const fs::path dir = pg::test::scratch("cli-train-bad");
@@ -107,6 +128,7 @@ TEST_CASE("train: bad arguments are one clear error and nothing is written") {
         {common_args(suite) + " --out " + (dir / "m.bin").string(), "--out"},
         {common_args(suite) + " --config huge" + out, "--config"},
         {common_args(suite) + " --steps 0" + out, "--steps"},
+        {common_args(suite) + " --lovasz -1" + out, "--lovasz"},
         {common_args(suite) + " --resume " + (suite / "suite.json").string() + out, "--resume"},
     };
     for (const auto& c : cases) {

@@ -70,18 +70,23 @@ TEST_CASE("training steps are deterministic for a seed", "[train]") {
     CHECK(test::same_bits(run(), run()));
 }
 
-TEST_CASE("training-mode gradients match PyTorch autograd on the tiny config (two clouds)", "[train]") {
+namespace {
+
+// One training-mode step of the fixture's weights and two clouds against PyTorch autograd
+// (tools/make_ptv3_train_fixture.py): loss, logits and every parameter's gradient.
+void check_against_autograd(double lovasz_weight, const char* grads_file) {
     const auto dir = test::fixtures() / "ptv3" / "train";
     auto pool = nn::Pool::create(test::gpu());
     nn::train::TrainOptions options;
     options.drop_path = 0;
+    options.lovasz_weight = lovasz_weight;
     nn::train::Trainer trainer(*pool, nn::Ptv3Weights::load(*pool, test::fixtures() / "ptv3" / "small" / "weights.safetensors"),
                                options);
     const nn::Ptv3Input input = test::read_ptv3_input(dir, 2);
     const std::vector<float> raw_labels = test::read_f32_file(dir / "labels.bin");
     std::vector<int32_t> labels(raw_labels.size());
     std::memcpy(labels.data(), raw_labels.data(), labels.size() * 4);
-    const nn::SafeTensors want = nn::SafeTensors::load(dir / "grads.safetensors");
+    const nn::SafeTensors want = nn::SafeTensors::load(dir / grads_file);
 
     std::map<std::string, std::string> file_name;  // canonical -> the fixture's (release) name
     for (const auto& [name, info] : want.tensors()) file_name[nn::Ptv3Weights::canonical_name(name)] = name;
@@ -90,7 +95,8 @@ TEST_CASE("training-mode gradients match PyTorch autograd on the tiny config (tw
     const nn::train::StepResult r = trainer.gradients(input, labels);
     CHECK(r.counted == 473);
     CHECK(r.loss == Approx(want.f32("loss")[0]).epsilon(1e-5));
-    CHECK(test::relative_max_error(r.logits, want.f32("logits")) < 1e-4);
+    CHECK((lovasz_weight > 0) == (r.lovasz > 0));
+    if (lovasz_weight == 0) CHECK(test::relative_max_error(r.logits, want.f32("logits")) < 1e-4);
 
     // Per tensor, relative to its largest gradient; a floor of 1e-3 of the largest gradient
     // overall for the tensors whose exact gradient is zero (their values are rounding noise).
@@ -111,10 +117,21 @@ TEST_CASE("training-mode gradients match PyTorch autograd on the tiny config (tw
     }
     INFO("worst gradient " << worst_name << ": " << worst);
     CHECK(worst < 1e-4);
+    if (lovasz_weight > 0) return;
     // BatchNorm running statistics moved as PyTorch moves them (momentum 0.01, unbiased variance).
     for (const char* bn : {"embedding.stem.norm", "enc.enc4.down.norm.0", "dec.dec0.up.proj_skip.1"})
         for (const char* stat : {".running_mean", ".running_var"}) {
             const std::string name = std::string(bn) + stat;
             CHECK(test::relative_max_error(test::down(*pool, trainer.weights()[name]), wanted(name)) < 1e-5);
         }
+}
+
+}  // namespace
+
+TEST_CASE("training-mode gradients match PyTorch autograd on the tiny config (two clouds)", "[train]") {
+    check_against_autograd(0, "grads.safetensors");
+}
+
+TEST_CASE("training-mode gradients with the Lovasz loss added match PyTorch autograd", "[train]") {
+    check_against_autograd(1, "grads_lovasz.safetensors");
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace pg::test::ref::grad {
 
@@ -297,6 +298,60 @@ CrossEntropy cross_entropy(const Vec& logits, const std::vector<int32_t>& labels
     const double scale = 1.0 / double(std::max<int64_t>(r.counted, 1));
     r.loss = sum * scale;
     for (auto& d : r.dlogits) d *= scale;
+    return r;
+}
+
+Lovasz lovasz_softmax(const Vec& logits, const std::vector<int32_t>& labels, int64_t M, int64_t K, int32_t ignore) {
+    Lovasz r;
+    r.dlogits.assign(size_t(M * K), 0.0);
+    std::vector<int64_t> rows;
+    for (int64_t m = 0; m < M; ++m)
+        if (labels[size_t(m)] != ignore && labels[size_t(m)] >= 0 && labels[size_t(m)] < K) rows.push_back(m);
+    const size_t n = rows.size();
+    Vec prob(n * size_t(K));
+    for (size_t i = 0; i < n; ++i) {
+        const int64_t m = rows[i];
+        double mx = -INFINITY, s = 0;
+        for (int64_t k = 0; k < K; ++k) mx = std::max(mx, logits[at(m, k, K)]);
+        for (int64_t k = 0; k < K; ++k) s += std::exp(logits[at(m, k, K)] - mx);
+        for (int64_t k = 0; k < K; ++k) prob[i * size_t(K) + size_t(k)] = std::exp(logits[at(m, k, K)] - mx) / s;
+    }
+    // dloss / dp per counted row and class.
+    Vec dprob(n * size_t(K), 0.0);
+    int present = 0;
+    for (int64_t c = 0; c < K; ++c) {
+        Vec fg(n), err(n);
+        for (size_t i = 0; i < n; ++i) {
+            fg[i] = labels[size_t(rows[i])] == c ? 1.0 : 0.0;
+            err[i] = std::fabs(fg[i] - prob[i * size_t(K) + size_t(c)]);
+        }
+        const double gts = std::accumulate(fg.begin(), fg.end(), 0.0);
+        if (gts == 0) continue;
+        ++present;
+        std::vector<size_t> order(n);
+        std::iota(order.begin(), order.end(), size_t(0));
+        std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return err[a] > err[b]; });
+        double cum_fg = 0, cum_bg = 0, prev = 0;
+        for (size_t j = 0; j < n; ++j) {
+            const size_t i = order[j];
+            cum_fg += fg[i];
+            cum_bg += 1.0 - fg[i];
+            const double jaccard = 1.0 - (gts - cum_fg) / (gts + cum_bg);
+            const double grad = jaccard - prev;
+            prev = jaccard;
+            r.loss += err[i] * grad;
+            dprob[i * size_t(K) + size_t(c)] = grad * (fg[i] > 0 ? -1.0 : 1.0);
+        }
+    }
+    if (present == 0) return r;
+    r.loss /= present;
+    for (size_t i = 0; i < n; ++i) {
+        const double* p = &prob[i * size_t(K)];
+        const double* dp = &dprob[i * size_t(K)];
+        double dot = 0;
+        for (int64_t k = 0; k < K; ++k) dot += dp[k] * p[k];
+        for (int64_t k = 0; k < K; ++k) r.dlogits[at(rows[i], k, K)] = p[k] * (dp[k] - dot) / present;
+    }
     return r;
 }
 

@@ -84,4 +84,14 @@ struct CrossEntropy {
 };
 CrossEntropy cross_entropy(const Vec& logits, const std::vector<int32_t>& labels, int64_t M, int64_t K, int32_t ignore);
 
+// Lovasz-softmax as Berman et al.'s reference code writes it (flattened, classes present):
+// per class, errors |fg - p| sorted descending (ties by row), the Lovasz gradient of the sorted
+// foreground from cumulative sums, their dot product; the mean over classes present. Rows are
+// counted as in cross_entropy. The gradient treats the sorted order as fixed (exact away from ties).
+struct Lovasz {
+    double loss = 0;
+    Vec dlogits;
+};
+Lovasz lovasz_softmax(const Vec& logits, const std::vector<int32_t>& labels, int64_t M, int64_t K, int32_t ignore);
+
 }  // namespace pg::test::ref::grad
