@@ -27,6 +27,7 @@ namespace {
 struct BenchTrainArgs {
     std::string config = "small";
     int points = 8192, clouds = 1, repeats = 5, warmup = 1;
+    double lovasz = 0;
     uint64_t seed = 1;
     bool json = false;
     DeviceOptions device;
@@ -36,6 +37,7 @@ void run_bench_train(const BenchTrainArgs& a) {
     if (a.points < 16) throw data::InputError("--points", "must be at least 16");
     if (a.clouds < 1) throw data::InputError("--clouds", "must be at least 1");
     if (a.repeats < 1) throw data::InputError("--repeats", "must be at least 1");
+    if (!(a.lovasz >= 0)) throw data::InputError("--lovasz", "must be 0 or more");
     nn::Ptv3Config config;
     config = ptv3_config_arg(a.config, "--config");
     vk::ContextOptions co;
@@ -43,8 +45,10 @@ void run_bench_train(const BenchTrainArgs& a) {
     co.quiet = a.json;
     vk::Context ctx(co);
     auto pool = nn::Pool::create(ctx);
+    nn::train::TrainOptions to;
+    to.lovasz_weight = a.lovasz;
     nn::train::Trainer trainer(*pool, nn::Ptv3Weights::from_host(*pool, config, nn::train::initial_weights(config, a.seed),
-                                                                 "initial"));
+                                                                 "initial"), to);
     // One batch of `clouds` crops; label 1 where the positive click weight is high (the first shape).
     nn::Ptv3Input in;
     std::vector<int32_t> labels;
@@ -85,6 +89,7 @@ void run_bench_train(const BenchTrainArgs& a) {
         j["parameters"] = params;
         j["points_per_cloud"] = a.points;
         j["clouds"] = a.clouds;
+        j["lovasz"] = a.lovasz;
         j["repeats"] = a.repeats;
         for (const auto& f : families.names) j["family_ms"][f] = families.median_ms(f);
         j["gpu_ms"] = gpu_med;
@@ -95,8 +100,9 @@ void run_bench_train(const BenchTrainArgs& a) {
         std::printf("%s\n", j.dump(2).c_str());
         return;
     }
-    std::printf("device: %s\nconfig: %s (%lld parameters), %d cloud(s) x %d points, median of %d steps\n\n", ctx.info().name.c_str(),
-                a.config.c_str(), params, a.clouds, a.points, a.repeats);
+    std::printf("device: %s\nconfig: %s (%lld parameters), %d cloud(s) x %d points, %s, median of %d steps\n\n",
+                ctx.info().name.c_str(), a.config.c_str(), params, a.clouds, a.points,
+                a.lovasz > 0 ? "cross-entropy + Lovasz loss" : "cross-entropy loss", a.repeats);
     std::printf("%-16s %10s %7s\n", "ops", "GPU ms", "share");
     for (const auto& f : families.names) {
         const double m = families.median_ms(f);
@@ -119,6 +125,8 @@ void register_bench_train(CLI::App& bench, std::function<void()>& run) {
     cmd->add_option("--repeats", a->repeats, "Timed steps (medians are reported)")->capture_default_str();
     cmd->add_option("--warmup", a->warmup, "Untimed steps first")->capture_default_str();
     cmd->add_option("--seed", a->seed, "Seed of the weights and the synthetic input")->capture_default_str();
+    cmd->add_option("--lovasz", a->lovasz, "Weight of the Lovasz loss added to the cross-entropy (0: off)")
+        ->capture_default_str();
     cmd->add_flag("--json", a->json, "Print JSON instead of a table");
     add_device_option(*cmd, a->device);
     cmd->callback([a, &run] { run = [a] { run_bench_train(*a); }; });

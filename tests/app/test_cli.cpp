@@ -134,6 +134,20 @@ TEST_CASE("orbit writes cameras that see the scene, and bench prints JSON") {
     CHECK(j["peak_device_bytes"].get<double>() > 0.0);
 }
 
+TEST_CASE("bench train prints the step's ops, with the Lovasz loss when asked") {
+    for (const char* lovasz : {"0", "1"}) {
+        auto b = run(std::string("bench train --config tiny --points 600 --repeats 1 --warmup 0 --json --lovasz ") + lovasz);
+        INFO(b.out);
+        REQUIRE(b.code == 0);
+        auto j = nlohmann::json::parse(b.out);
+        CHECK(j["lovasz"].get<double>() == std::stod(lovasz));
+        CHECK(j["steps_per_s"].get<double>() > 0.0);
+        CHECK(j["peak_mib"].get<double>() > 0.0);
+        for (const char* family : {"loss", "conv bwd", "attention bwd", "optimizer"})
+            CHECK(j["family_ms"][family].get<double>() > 0.0);
+    }
+}
+
 TEST_CASE("prompts, segment and eval run the benchmark protocol on the bundled sample") {
     // The ground-truth decoder isolates the pipeline around the network: 3D labels must be
     // exact, and the projected masks must match the ray-cast ground truth closely.
