@@ -120,7 +120,7 @@ TEST_CASE("clicks runs ground-truth sessions on every object and eval scores the
     CHECK(e.out.find("| **all objects** | " + std::to_string(objects) + " |") != std::string::npos);
 }
 
-TEST_CASE("clicks: --scenes, --objects and --max-clicks narrow the run; a PTv3 file decodes") {
+TEST_CASE("clicks: --scenes, --objects and --max-clicks narrow the run, a PTv3 file decodes") {
     const fs::path suite = tiny_suite();
     const fs::path pred = pg::test::scratch("cli-clicks-narrow") / "pred";
     fs::remove_all(pred);

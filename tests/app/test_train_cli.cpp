@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "dataset/atomic_file.h"
+#include "dataset/image_io.h"
 #include "tests/app/cli_run.h"
 #include "tests/test_paths.h"
 
@@ -47,7 +48,7 @@ json safetensors_metadata(const fs::path& p) {
 
 }  // namespace
 
-TEST_CASE("train writes an interactive model, its log and a checkpoint; chunks resume to the same model") {
+TEST_CASE("train writes an interactive model, its log and a checkpoint, chunks resume to the same model") {
     const fs::path suite = train_suite();
     const fs::path dir = pg::test::scratch("cli-train");
     fs::remove_all(dir);
@@ -71,6 +72,22 @@ TEST_CASE("train writes an interactive model, its log and a checkpoint; chunks r
     }
     CHECK(lines == 4);
     CHECK(fs::exists(dir / "whole.ckpt.safetensors"));
+    // The run's picture: three panels (loss, validation IoU, learning rate).
+    const pg::data::Image8 curves = pg::data::read_png8(dir / "whole.curves.png");
+    CHECK(curves.width == 900);
+    CHECK(curves.height == 3 * 260);
+    // `curves` draws the same log to the same picture; bad arguments name themselves.
+    Run drawn = run("curves " + (dir / "whole.log.jsonl").string() + " --out " + (dir / "drawn.png").string());
+    INFO(drawn.out);
+    REQUIRE(drawn.code == 0);
+    CHECK(pg::data::read_file(dir / "drawn.png") == pg::data::read_file(dir / "whole.curves.png"));
+    Run missing = run("curves " + (dir / "none.jsonl").string() + " --out " + (dir / "x.png").string());
+    CHECK(missing.code != 0);
+    CHECK(missing.out.find("none.jsonl") != std::string::npos);
+    Run self = run("curves " + (dir / "whole.log.jsonl").string() + " --out " + (dir / "whole.log.jsonl").string());
+    CHECK(self.code != 0);
+    CHECK(self.out.find("--out") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "x.png"));
 
     // The same run in two chunks: stop after step 2, resume from the checkpoint.
     Run first = run(common_args(suite) + " --steps 4 --stop-at 2 --out " + (dir / "chunked.safetensors").string());

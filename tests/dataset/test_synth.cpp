@@ -92,7 +92,7 @@ TEST_CASE("synth: the same seed gives the same bytes, another seed a different s
     }
 }
 
-TEST_CASE("synth: every instance is in the PLY and in some mask; files follow the contract", "[synth]") {
+TEST_CASE("synth: every instance is in the PLY and in some mask, files follow the contract", "[synth]") {
     for (SuiteKind suite : kAllSuites) {
         INFO(suite_name(suite));
         const SynthScene s = make_suite_scene(suite, 0, 7, small_options());

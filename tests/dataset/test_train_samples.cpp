@@ -92,7 +92,7 @@ void check_labels(const SampleDrawer& drawer, const Sample& s) {
 
 }  // namespace
 
-TEST_CASE("train: labels mark the drawn object; small objects are never drawn", "[train]") {
+TEST_CASE("train: labels mark the drawn object, small objects are never drawn", "[train]") {
     const SampleDrawer drawer({hand_scene(true)});
     CHECK(drawer.object_count() == 2);
     Rng rng(1);

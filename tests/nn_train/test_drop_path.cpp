@@ -6,7 +6,7 @@
 
 using namespace pg;
 
-TEST_CASE("drop path masks keep rows at 1/(1-rate) with probability 1-rate; scale_rows matches the host", "[train]") {
+TEST_CASE("drop path masks keep rows at 1/(1-rate) with probability 1-rate, scale_rows matches the host", "[train]") {
     auto pool = nn::Pool::create(test::gpu());
     vk::CommandList cmd(test::gpu());
     std::mt19937_64 rng(3);

@@ -179,7 +179,7 @@ TEST_CASE("refine: holes are 4-connected, diagonal leaks do not open them") {
     CHECK(gpu_refine(im, stages({}, true, false)) == want);
 }
 
-TEST_CASE("refine: of two blobs of one instance only the larger stays; a tie keeps the lower index") {
+TEST_CASE("refine: of two blobs of one instance only the larger stays, a tie keeps the lower index") {
     const Image larger_second = parse({
         "11.......",
         "11....111",
@@ -291,7 +291,7 @@ TEST_CASE("refine: closing never overwrites another instance, and the smaller id
     CHECK(closed[1 * 7 + 2] == 0);
 }
 
-TEST_CASE("refine: the border neither erodes nor blocks closing; gaps to it up to r close") {
+TEST_CASE("refine: the border neither erodes nor blocks closing, gaps to it up to r close") {
     Image im{20, 10, std::vector<uint32_t>(200, 0)};
     for (int y = 3; y <= 6; ++y)
         for (int x = 2; x <= 10; ++x) im.px[size_t(y * 20 + x)] = 4;

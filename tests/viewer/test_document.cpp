@@ -18,7 +18,7 @@ Click click(double u, double v, bool positive = true) {
 }
 }  // namespace
 
-TEST_CASE("a click without a selected object starts one; each edit is one undo step", "[viewer]") {
+TEST_CASE("a click without a selected object starts one, each edit is one undo step", "[viewer]") {
     Document d;
     REQUIRE_FALSE(d.can_undo());
     REQUIRE(d.add_click(click(10, 20)));
@@ -49,7 +49,7 @@ TEST_CASE("a click without a selected object starts one; each edit is one undo s
     REQUIRE(d.state() == full);
 }
 
-TEST_CASE("an edit after undo drops the redo history; no-op edits add no step", "[viewer]") {
+TEST_CASE("an edit after undo drops the redo history, no-op edits add no step", "[viewer]") {
     Document d;
     int a = d.add_object("a");
     d.add_click(click(1, 1));

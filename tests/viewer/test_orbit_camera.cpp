@@ -36,7 +36,7 @@ TEST_CASE("look_at puts the target at the image centre with the scene's up point
     }
 }
 
-TEST_CASE("orbit keeps the target and distance; pan moves both eye and target sideways", "[viewer]") {
+TEST_CASE("orbit keeps the target and distance, pan moves both eye and target sideways", "[viewer]") {
     OrbitCamera cam({0, -1, 0});
     cam.look_at({0, -1, -4}, {0, 0, 0});
     const double d = cam.distance();
