@@ -23,6 +23,7 @@ void register_bench(CLI::App& app, std::function<void()>& run);
 void register_cameras(CLI::App& app, std::function<void()>& run);
 void register_eval(CLI::App& app, std::function<void()>& run);
 void register_train(CLI::App& app, std::function<void()>& run);
+void register_curves(CLI::App& app, std::function<void()>& run);
 void register_synth(CLI::App& app, std::function<void()>& run);
 void register_segment(CLI::App& app, std::function<void()>& run);
 void register_prompts(CLI::App& app, std::function<void()>& run);

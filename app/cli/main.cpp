@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
     pg::app::register_infer(app, run);
     pg::app::register_clicks(app, run);
     pg::app::register_train(app, run);
+    pg::app::register_curves(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

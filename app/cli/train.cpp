@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
+#include "app/cli/train_curves.h"
 #include "app/common/ptv3_decoder.h"
 #include "dataset/atomic_file.h"
 #include "dataset/clicks/mask.h"
@@ -173,6 +174,7 @@ void run_train(const TrainArgs& a) {
     }
     const std::string ckpt_path = a.out.substr(0, a.out.size() - std::string(".safetensors").size()) + ".ckpt.safetensors";
     const std::string log_path = a.out.substr(0, a.out.size() - std::string(".safetensors").size()) + ".log.jsonl";
+    const std::string curves_path = a.out.substr(0, a.out.size() - std::string(".safetensors").size()) + ".curves.png";
     std::ofstream log(log_path, start > 0 ? std::ios::app : std::ios::trunc);
     const bool tty = isatty(2) && !std::getenv("CI");
     const auto t_start = std::chrono::steady_clock::now();
@@ -245,6 +247,8 @@ void run_train(const TrainArgs& a) {
     if (tty) std::fprintf(stderr, "\n");
     if (end < a.steps) {
         nn::train::save_checkpoint(ckpt_path, trainer, end, metadata(end));
+        log.close();
+        write_train_curves(log_path, curves_path);
         std::printf("stopped after step %lld of %d: resume with --resume %s\n", (long long)end, a.steps, ckpt_path.c_str());
         return;
     }
@@ -257,6 +261,8 @@ void run_train(const TrainArgs& a) {
     if (val_drawer) last_val = validate(*pool, trainer.weights(), *val_drawer, val_samples);
     nn::train::save_checkpoint(ckpt_path, trainer, a.steps, metadata(a.steps));
     nn::train::save_model(a.out, *pool, trainer.weights(), metadata(a.steps));
+    log.close();
+    write_train_curves(log_path, curves_path);
     const double minutes = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count() / 60.0;
     std::printf("wrote %s (%lld parameters) after %d steps in %.1f min on %s", a.out.c_str(),
                 trainer.weights().parameter_count(), a.steps, minutes, ctx.info().name.c_str());
