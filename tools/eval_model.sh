@@ -2,7 +2,8 @@
 # Evaluates an interactive model on the test split of freshly generated instance suites (seeds
 # no training run has seen): the paper's table (3D IoU, 2D mIoU, OA) from the benchmark's first
 # clicks (`pointgauss prompts` -> `segment`), and IoU@k / NoC@t from simulated 20-click sessions
-# (`pointgauss clicks`), all scored by `pointgauss eval`. Writes OUT_DIR/<suite>.md and .json.
+# (`pointgauss clicks`), all scored by `pointgauss eval`. Writes OUT_DIR/<suite>.md, .json and
+# <suite>-clicks.png (IoU against the number of clicks).
 # usage: tools/eval_model.sh MODEL OUT_DIR [SCENES] [SEED] [DENSITY]
 set -euo pipefail
 model=${1:?usage: $0 MODEL OUT_DIR [SCENES] [SEED] [DENSITY]}
@@ -24,5 +25,6 @@ for suite in desk vehicles residence; do
         --model "$model" --out "$pred/$scene" >/dev/null
   done
   "$pg" clicks --gt "$gt" --model "$model" --out "$pred" --split test
-  "$pg" eval --gt "$gt" --pred "$pred" --split test --json "$out/$suite.json" | tee "$out/$suite.md"
+  "$pg" eval --gt "$gt" --pred "$pred" --split test --json "$out/$suite.json" --plot "$out/$suite-clicks.png" \
+      | tee "$out/$suite.md"
 done

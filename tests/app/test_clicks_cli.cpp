@@ -11,6 +11,7 @@
 
 #include "dataset/atomic_file.h"
 #include "dataset/eval/label_files.h"
+#include "dataset/image_io.h"
 #include "tests/app/cli_run.h"
 #include "tests/test_paths.h"
 
@@ -111,9 +112,19 @@ TEST_CASE("clicks runs ground-truth sessions on every object and eval scores the
     CHECK(objects >= 4);
     CHECK(first_click_good * 5 >= objects * 4);  // most objects: IoU >= 0.9 after one click
 
-    auto e = run("eval --gt " + suite.string() + " --pred " + pred.string() + " --split all");
+    const fs::path plot = pred.parent_path() / "clicks.png";
+    fs::remove(plot);
+    auto e = run("eval --gt " + suite.string() + " --pred " + pred.string() + " --split all --plot " + plot.string());
     INFO(e.out);
     REQUIRE(e.code == 0);
+    // The IoU-against-clicks picture: per scene and all objects.
+    const pg::data::Image8 img = pg::data::read_png8(plot);
+    CHECK(img.width == 760);
+    CHECK(img.height == 380);
+    auto bad = run("eval --gt " + suite.string() + " --pred " + pred.string() + " --split all --plot " +
+                   (pred.parent_path() / "clicks.txt").string());
+    CHECK(bad.code != 0);
+    CHECK(bad.out.find("--plot") != std::string::npos);
     CHECK(e.out.find("| scene | objects | IoU@1 | IoU@3 | IoU@5 | IoU@10 | NoC@80 | NoC@85 | NoC@90 |") !=
           std::string::npos);
     CHECK(e.out.find("| desk_001 | ") != std::string::npos);
