@@ -12,6 +12,7 @@
 
 #include "nn/train/grad_ops.h"
 #include "tests/gpu_fixture.h"
+#include "tests/nn_grad/grad_test_util.h"
 #include "tests/reference/nn_dense_ref.h"
 #include "tests/reference/nn_grad_ref.h"
 
@@ -20,17 +21,9 @@ using nn::DType;
 using nn::Tensor;
 namespace ref = pg::test::ref;
 namespace gref = pg::test::ref::grad;
+using pg::test::random_labels;
 
 namespace {
-
-// Labels in [0, K), with about `ignored` of them -1.
-std::vector<int32_t> random_labels(size_t M, int32_t K, double ignored, uint32_t seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    std::vector<int32_t> v(M);
-    for (auto& l : v) l = u(rng) < ignored ? -1 : int32_t(rng() % uint32_t(K));
-    return v;
-}
 
 struct GpuLoss {
     float loss;

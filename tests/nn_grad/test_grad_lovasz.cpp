@@ -14,6 +14,7 @@
 
 #include "nn/train/grad_ops.h"
 #include "tests/gpu_fixture.h"
+#include "tests/nn_grad/grad_test_util.h"
 #include "tests/reference/nn_dense_ref.h"
 #include "tests/reference/nn_grad_ref.h"
 
@@ -22,16 +23,9 @@ using nn::DType;
 using nn::Tensor;
 namespace ref = pg::test::ref;
 namespace gref = pg::test::ref::grad;
+using pg::test::random_labels;
 
 namespace {
-
-std::vector<int32_t> random_labels(size_t M, int32_t K, double ignored, uint32_t seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    std::vector<int32_t> v(M);
-    for (auto& l : v) l = u(rng) < ignored ? -1 : int32_t(rng() % uint32_t(K));
-    return v;
-}
 
 // Two-class logits whose errors are far apart (>= 1 / 3M): the GPU's float errors sort exactly
 // as the reference's doubles. p_1 of row i is (perm[i] + 1/3) / M, so no p equals another's 1 - p.
