@@ -111,7 +111,10 @@ void Buffer::ensure(VkDeviceSize bytes) {
     VkPhysicalDeviceMemoryProperties mp;
     vkGetPhysicalDeviceMemoryProperties(ctx_->physical_device(), &mp);
     flags = mp.memoryTypes[type].propertyFlags;
-    if ((flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) && (flags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT))
+    // Device buffers are mapped only on unified memory: elsewhere (or when a discrete GPU is
+    // emulated) host access goes through staging copies.
+    const bool host_access = use_ != MemoryUse::Device || info.unified_memory;
+    if (host_access && (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) && (flags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT))
         PG_VK(vkMapMemory(dev, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
 }
 

@@ -70,6 +70,7 @@ uint64_t Context::validation_message_count() { return g_validation_messages.load
 
 Context::Context(const ContextOptions& options) : options_(options) {
     bool validation = options.validation || env_flag("PG_VALIDATION");
+    options_.discrete_memory = options.discrete_memory || env_flag("PG_DISCRETE_MEMORY");
     create_instance(validation);
     std::string wanted = options.device;
     if (wanted.empty())
@@ -77,8 +78,8 @@ Context::Context(const ContextOptions& options) : options_(options) {
     pick_device(wanted);
     create_device();
     if (!options.quiet)
-        std::fprintf(stderr, "device: %s (%s)%s\n", info_.name.c_str(), device_type_name(info_.type).c_str(),
-                     validation ? ", validation on" : "");
+        std::fprintf(stderr, "device: %s (%s)%s%s\n", info_.name.c_str(), device_type_name(info_.type).c_str(),
+                     validation ? ", validation on" : "", options_.discrete_memory ? ", discrete memory emulated" : "");
 }
 
 Context::~Context() {
@@ -237,6 +238,7 @@ void Context::pick_device(const std::string& wanted) {
         auto f = memory_.memoryTypes[i].propertyFlags;
         if ((f & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) && !(f & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)) info_.unified_memory = false;
     }
+    if (options_.discrete_memory) info_.unified_memory = false;
 }
 
 void Context::create_device() {

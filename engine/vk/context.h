@@ -21,6 +21,10 @@ struct ContextOptions {
     bool quiet = false;       // do not print the chosen device
     // Tests lower this to exercise dispatch splitting cheaply; 0 = the device's limit.
     uint32_t max_group_count_override = 0;
+    // Treat the device as a discrete GPU's memory (also with PG_DISCRETE_MEMORY=1): device
+    // buffers are never mapped, every transfer goes through staging copies, so lavapipe runs
+    // the code paths a real GPU takes.
+    bool discrete_memory = false;
     // For a window (the viewer): extra instance extensions (GLFW's), and a test of whether a
     // queue family can present; the device then also needs VK_KHR_swapchain.
     std::vector<std::string> instance_extensions;
@@ -39,7 +43,8 @@ struct DeviceInfo {
     uint32_t subgroup_size;
     float timestamp_period_ns;
     bool timestamps;
-    bool unified_memory;  // every device-local heap is host-visible (lavapipe, some iGPUs)
+    bool unified_memory;  // every device-local heap is host-visible (lavapipe, some iGPUs), unless
+                          // ContextOptions::discrete_memory says to act as if not
     VkDeviceSize device_memory_bytes;
 };
 

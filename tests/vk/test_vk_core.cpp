@@ -51,6 +51,28 @@ TEST_CASE("buffers round-trip through every memory use") {
     CHECK(empty.valid());
 }
 
+TEST_CASE("with discrete memory emulated, device buffers are not mapped and data goes through staging") {
+    vk::ContextOptions o;
+    o.validation = true;
+    o.quiet = true;
+    o.discrete_memory = true;
+    vk::Context ctx(o);
+    CHECK_FALSE(ctx.info().unified_memory);
+    std::vector<uint32_t> data(5000);
+    std::iota(data.begin(), data.end(), 3u);
+    vk::Buffer dev(ctx, data.size() * 4, vk::MemoryUse::Device, "device");
+    CHECK_FALSE(dev.mapped());
+    CHECK(vk::Buffer(ctx, 64, vk::MemoryUse::Readback, "readback").mapped());
+    vk::upload(ctx, dev, data.data(), data.size() * 4);
+    // A GPU copy between two unmapped buffers, then a download through staging.
+    vk::Buffer other(ctx, data.size() * 4, vk::MemoryUse::Device, "other");
+    vk::CommandList cmd(ctx);
+    cmd.copy(dev, other, data.size() * 4);
+    cmd.submit_and_wait();
+    CHECK(vk::download_vector<uint32_t>(ctx, other, data.size()) == data);
+    CHECK(vk::download_vector<uint32_t>(ctx, other, 5, 400)[0] == data[100]);
+}
+
 TEST_CASE("a buffer larger than the device allows is a clear error, and >4 GiB works where allowed") {
     auto& ctx = test::gpu();
     const VkDeviceSize five_gib = 5ull << 30;
