@@ -23,10 +23,10 @@ namespace {
 using pg::test::Run;
 Run run(const std::string& args) { return pg::test::run_cli(args); }
 
-// Two small desk scenes (made once per test binary run).
+// Two small desk scenes (made once per test process).
 fs::path tiny_suite() {
     static const fs::path dir = [] {
-        fs::path d = pg::test::scratch("cli-clicks-suite");
+        fs::path d = pg::test::process_scratch("cli-clicks-suite");
         fs::remove_all(d);
         auto r = run("synth --suite desk --scenes 2 --seed 5 --density 0.05 --cameras 4 --width 64 --height 48 "
                      "--previews 1 --out " + d.string());

@@ -23,7 +23,7 @@ Run run(const std::string& args) { return pg::test::run_cli(args); }
 
 fs::path train_suite() {
     static const fs::path dir = [] {
-        fs::path d = pg::test::scratch("cli-train-suite");
+        fs::path d = pg::test::process_scratch("cli-train-suite");
         fs::remove_all(d);
         auto r = run("synth --suite desk --scenes 2 --seed 9 --density 0.05 --cameras 4 --width 64 --height 48 "
                      "--previews 1 --out " + d.string());
