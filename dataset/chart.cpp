@@ -15,6 +15,13 @@ using Rgb = std::array<uint8_t, 3>;
 constexpr Rgb kInk{40, 40, 40}, kGrid{225, 225, 225}, kFrame{120, 120, 120};
 constexpr int kTextScale = 2;  // easy-font glyphs are ~6 px tall: doubled to read
 
+// The font has printable ASCII only.
+std::string printable(std::string s) {
+    for (char& ch : s)
+        if (ch < 32 || ch > 126) ch = '?';
+    return s;
+}
+
 struct Canvas {
     Image8& img;
     void fill(int x0, int y0, int x1, int y1, Rgb c) {
@@ -31,15 +38,13 @@ struct Canvas {
             fill(x, y, x + thick, y + thick, c);
         }
     }
-    static int text_width(std::string s) {
-        for (char& ch : s)
-            if (ch < 32 || ch > 126) ch = '?';
-        return stb_easy_font_width(s.data()) * kTextScale;
+    static int text_width(const std::string& s) {
+        std::string p = printable(s);
+        return stb_easy_font_width(p.data()) * kTextScale;
     }
     static int text_height() { return 7 * kTextScale; }
-    void text(int x, int y, std::string s, Rgb c) {
-        for (char& ch : s)
-            if (ch < 32 || ch > 126) ch = '?';  // the font has printable ASCII only
+    void text(int x, int y, const std::string& text, Rgb c) {
+        std::string s = printable(text);
         std::vector<float> quads(s.size() * 64 * 16 + 16);  // up to 64 quads of 16 floats per glyph
         const int n = stb_easy_font_print(0, 0, s.data(), nullptr, quads.data(), int(quads.size() * sizeof(float)));
         for (int q = 0; q < n; ++q) {

@@ -172,9 +172,9 @@ void run_train(const TrainArgs& a) {
         data::Rng rng(step_seed(a.seed, -1, 7));
         for (int i = 0; i < a.val_samples; ++i) val_samples.push_back(val_drawer->draw(rng));
     }
-    const std::string ckpt_path = a.out.substr(0, a.out.size() - std::string(".safetensors").size()) + ".ckpt.safetensors";
-    const std::string log_path = a.out.substr(0, a.out.size() - std::string(".safetensors").size()) + ".log.jsonl";
-    const std::string curves_path = a.out.substr(0, a.out.size() - std::string(".safetensors").size()) + ".curves.png";
+    const std::string stem = a.out.substr(0, a.out.size() - std::string(".safetensors").size());
+    const std::string ckpt_path = stem + ".ckpt.safetensors", log_path = stem + ".log.jsonl",
+                      curves_path = stem + ".curves.png";
     std::ofstream log(log_path, start > 0 ? std::ios::app : std::ios::trunc);
     const bool tty = isatty(2) && !std::getenv("CI");
     const auto t_start = std::chrono::steady_clock::now();

@@ -299,7 +299,7 @@ StepResult Trainer::run(const Ptv3Input& in, const std::vector<int32_t>& labels,
     Tensor voxel_labels = ops::gather_rows(cmd, pool_, labels_t, st.vox.first);
     grad::CrossEntropy ce = grad::cross_entropy(cmd, pool_, logits, voxel_labels, options_.ignore_label);
     Tensor dlogits = ce.dlogits, lovasz_loss;
-    if (options_.lovasz_weight > 0) {
+    if (options_.lovasz_weight > 0 && mode != Mode::Statistics) {  // statistics passes need no loss
         grad::Lovasz lv = grad::lovasz_softmax(cmd, pool_, logits, voxel_labels, options_.ignore_label,
                                                float(options_.lovasz_weight));
         dlogits = ops::add(cmd, pool_, ce.dlogits, lv.dlogits);
