@@ -20,8 +20,11 @@ FramePicture FrameEngine::render(const FrameRequest& rq) {
     }
     render::RenderStyle style;
     if (labelled && !rq.palette.empty()) {
-        palette_.ensure(rq.palette.size() * sizeof(glm::vec4));
-        vk::upload(ctx_, palette_, rq.palette.data(), rq.palette.size() * sizeof(glm::vec4));
+        if (rq.palette != palette_uploaded_) {  // on a discrete GPU each upload is a staged copy and a wait
+            palette_.ensure(rq.palette.size() * sizeof(glm::vec4));
+            vk::upload(ctx_, palette_, rq.palette.data(), rq.palette.size() * sizeof(glm::vec4));
+            palette_uploaded_ = rq.palette;
+        }
         style.labels = &labels_;
         style.palette = &palette_;
         style.palette_size = uint32_t(rq.palette.size());

@@ -45,6 +45,7 @@ private:
     const render::GpuScene& scene_;
     render::Renderer renderer_;
     vk::Buffer labels_, palette_;
+    std::vector<glm::vec4> palette_uploaded_;  // what palette_ holds: an unchanged palette is not re-sent
     uint64_t labels_version_ = ~0ull;
     std::unique_ptr<seg::MaskViews> masks_;
 };
