@@ -2,6 +2,7 @@
 #include <algorithm>
 // Each subcommand registers itself on the CLI11 app; one file per subcommand.
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,13 @@
 #include "dataset/camera.h"
 
 namespace pg::app {
+
+// A run that finished and wrote its outputs, but not for everything asked (e.g. `segment` with
+// an object whose clicks could not be lifted): main prints the message and exits with 2.
+class PartialFailure : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
 
 // Options every GPU subcommand takes.
 struct DeviceOptions {

@@ -34,6 +34,9 @@ int main(int argc, char** argv) {
     try {
         run();
         return 0;
+    } catch (const pg::app::PartialFailure& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 2;
     } catch (const pg::data::InputError& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
     } catch (const pg::vk::VulkanError& e) {

@@ -29,9 +29,13 @@ namespace {
 
 struct SegmentArgs {
     std::string scene, cameras, prompts, out, model, views = "all", mode = "occlusion", up = "cameras";
-    std::string roi, label_property = "instance";
+    std::string roi, label_property = "instance", decoder = "ptv3+graph";
     double sigma = 0, scale = 0;
-    bool no_refine = false;
+    bool no_refine = false, strict = false;
+    seg::GraphOptions graph;
+    seg::WalkOptions walk;
+    float unary = 1.0f, unary_confidence = 0.97f;
+    double margin = 0.5;
     uint64_t seed = 1;
     DeviceOptions device;
 };
@@ -51,13 +55,15 @@ namespace {
 void run_segment(const SegmentArgs& args) {
     auto total_start = std::chrono::steady_clock::now();
     SegmentArgs a = args;
-    if (a.model.empty()) a.model = default_model_path();
-    if (a.model.empty())
+    const auto graph_use = seg::parse_graph_use(a.decoder);
+    const bool network = graph_use != seg::GraphUse::Alone;
+    if (a.model.empty() && network) a.model = default_model_path();
+    if (a.model.empty() && network)
         throw data::InputError("--model", "the shipped model assets/models/interactive.safetensors was not found "
                                           "(set PG_MODEL or give --model FILE.safetensors, or ground-truth on a "
                                           "labelled scene)");
     const bool ground_truth = a.model == "ground-truth";
-    if (!ground_truth && !fs::exists(a.model))
+    if (network && !ground_truth && !fs::exists(a.model))
         throw data::InputError("--model", "'" + a.model + "' is neither ground-truth nor an existing model file");
     auto mode = seg::parse_label_mode(a.mode);
     auto cloud = data::load_scene(a.scene);
@@ -70,9 +76,16 @@ void run_segment(const SegmentArgs& args) {
     o.sigma = a.sigma;
     o.scale = a.scale;
     o.seed = a.seed;
+    o.strict = a.strict;
+    o.graph = graph_use;
+    o.graph_options = a.graph;
+    o.walk = a.walk;
+    o.unary = a.unary;
+    o.unary_confidence = a.unary_confidence;
+    o.graph_margin = a.margin;
     if (!a.roi.empty()) parse_roi(a.roi, o.roi_length, o.roi_width);
     auto gt = cloud.int_property(a.label_property);
-    if (ground_truth && !gt)
+    if (network && ground_truth && !gt)
         throw data::InputError(a.scene, "has no integer property '" + a.label_property +
                                             "' for the ground-truth decoder");
 
@@ -85,26 +98,42 @@ void run_segment(const SegmentArgs& args) {
     co.device = a.device.device;
     vk::Context ctx(co);
     render::GpuScene scene(ctx, cloud);
-    std::unique_ptr<seg::Decoder> decoder_ptr;
-    if (ground_truth) decoder_ptr = std::make_unique<seg::GroundTruthDecoder>(*gt);
-    else decoder_ptr = std::make_unique<Ptv3Decoder>(ctx, a.model);
-    seg::Decoder& decoder = *decoder_ptr;
-    seg::Segmenter segmenter(ctx, cloud, scene, cameras, decoder);
-    auto result = segmenter.segment(prompts, o);
+    std::unique_ptr<seg::Decoder> decoder;
+    if (network && ground_truth) decoder = std::make_unique<seg::GroundTruthDecoder>(*gt);
+    else if (network) decoder = std::make_unique<Ptv3Decoder>(ctx, a.model);
+    auto segmenter = decoder ? std::make_unique<seg::Segmenter>(ctx, cloud, scene, cameras, *decoder)
+                             : std::make_unique<seg::Segmenter>(ctx, cloud, scene, cameras);
+    auto result = segmenter->segment(prompts, o);
+    const size_t failed = result.failed();
+    if (failed == result.objects.size())
+        throw data::InputError(a.prompts, "no object could be segmented; the first: " + result.objects[0].error);
+    for (auto& obj : result.objects)
+        if (!obj.error.empty()) std::fprintf(stderr, "error: %s (the object is left out)\n", obj.error.c_str());
 
     nlohmann::json report;
     report["scene"] = a.scene;
     report["device"] = ctx.info().name;
-    report["decoder"] = decoder.name();
+    report["decoder"] = std::string(seg::graph_use_name(graph_use)) +
+                        (decoder ? " (" + decoder->name() + ")" : std::string());
+    if (result.graph) {
+        auto& g = *result.graph;
+        report["graph"] = {{"nodes", g.nodes},         {"seeds", g.seeds},         {"unreached", g.unreached},
+                           {"iterations", g.iterations}, {"residual", g.residual}, {"cell", g.cell},
+                           {"spacing", g.spacing},     {"k", o.graph_options.k}};
+    }
+    report["failed"] = failed;
     report["gaussians"] = cloud.size();
     report["up"] = {o.up.x, o.up.y, o.up.z};
     for (auto& obj : result.objects) {
         nlohmann::json jo{{"id", obj.id},          {"name", obj.name},       {"roi_gaussians", obj.roi_gaussians},
                           {"batches", obj.batches}, {"gaussians", obj.labelled}, {"sigma", obj.sigma},
                           {"roi", {obj.roi.length, obj.roi.width}}};
+        if (!obj.error.empty()) jo["error"] = obj.error;
+        // fallback: the click's pixel never reached tau; it lifted at tau x its final opacity (coverage).
         for (auto& an : obj.anchors)
             jo["anchors"].push_back({{"position", {an.position.x, an.position.y, an.position.z}},
-                                     {"positive", an.positive}, {"gaussian", an.gaussian}});
+                                     {"positive", an.positive}, {"gaussian", an.gaussian},
+                                     {"fallback", an.fallback}, {"coverage", an.coverage}});
         report["objects"].push_back(jo);
     }
 
@@ -112,7 +141,8 @@ void run_segment(const SegmentArgs& args) {
     auto t0 = std::chrono::steady_clock::now();
     seg::write_labelled_scene(cloud, result.labels, out / "scene.ply");
     std::vector<seg::ExportObject> objects;
-    for (auto& obj : result.objects) objects.push_back({obj.id, obj.name});
+    for (auto& obj : result.objects)
+        if (obj.error.empty()) objects.push_back({obj.id, obj.name});
     seg::write_object_plys(cloud, result.labels, objects, out / "objects");
     result.stage_ms["write 3D"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
@@ -134,10 +164,17 @@ void run_segment(const SegmentArgs& args) {
     for (auto& [name, ms] : result.stage_ms) report["stage_ms"][name] = ms;
     report["total_ms"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - total_start).count();
     data::write_atomically(out / "report.json", [&](std::ostream& os) { os << report.dump(2) << "\n"; });
-    std::printf("segmented %zu object(s) (", result.objects.size());
-    for (size_t i = 0; i < result.objects.size(); ++i)
-        std::printf("%s%s: %zu Gaussians", i ? ", " : "", result.objects[i].name.c_str(), result.objects[i].labelled);
+    std::printf("segmented %zu object(s) (", result.objects.size() - failed);
+    bool first = true;
+    for (auto& obj : result.objects)
+        if (obj.error.empty()) {
+            std::printf("%s%s: %zu Gaussians", first ? "" : ", ", obj.name.c_str(), obj.labelled);
+            first = false;
+        }
     std::printf("), %zu view(s) of masks, into %s\n", views.size(), a.out.c_str());
+    if (failed)
+        throw PartialFailure(std::to_string(failed) + " of " + std::to_string(result.objects.size()) +
+                             " object(s) failed (named above and in report.json); the others were written");
 }
 
 }  // namespace
@@ -160,6 +197,17 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--label-property", a->label_property, "Property the ground-truth decoder reads")
         ->capture_default_str();
     cmd->add_option("--seed", a->seed, "Partition seed")->capture_default_str();
+    cmd->add_option("--decoder", a->decoder, "ptv3, graph (random walk on the kNN graph, no network) or ptv3+graph (the network's probabilities as the walk's unary terms)")->capture_default_str();
+    cmd->add_flag("--strict", a->strict, "Any object that fails stops the run (exit 1, nothing written); by default it is left out, the others are written and the exit code is 2");
+    cmd->add_option("--graph-k", a->graph.k, "Graph: neighbours per Gaussian (1-16)")->capture_default_str();
+    cmd->add_option("--graph-colour", a->graph.colour, "Graph: colour contrast beta_c in exp(-beta_c |drgb|^2)")->capture_default_str();
+    cmd->add_option("--graph-normal", a->graph.normal, "Graph: normal contrast beta_n")->capture_default_str();
+    cmd->add_option("--graph-distance", a->graph.distance, "Graph: distance fall-off in local spacings")->capture_default_str();
+    cmd->add_option("--graph-margin", a->margin, "Graph: the solve's domain is the ROIs widened by this fraction per side; what lies in the margin seeds the background")->capture_default_str();
+    cmd->add_option("--unary", a->unary, "ptv3+graph: strength of the network's probabilities, in units of a Gaussian's degree")->capture_default_str();
+    cmd->add_option("--unary-confidence", a->unary_confidence, "ptv3+graph: the network's probabilities count only where its most likely label reaches this")->capture_default_str();
+    cmd->add_option("--walk-iterations", a->walk.max_iterations, "Graph: most conjugate-gradient iterations")->capture_default_str();
+    cmd->add_option("--walk-tolerance", a->walk.tolerance, "Graph: relative residual to stop at")->capture_default_str();
     add_device_option(*cmd, a->device);
     cmd->callback([a, &run] { run = [a] { run_segment(*a); }; });
 }

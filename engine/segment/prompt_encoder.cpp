@@ -1,6 +1,8 @@
 #include "engine/segment/prompt_encoder.h"
 
+#include <bit>
 #include <cmath>
+#include <stdexcept>
 
 #include "dataset/error.h"
 #include "engine/vk/context.h"
@@ -18,20 +20,30 @@ Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, con
     render::RenderSettings s = settings;
     s.width = s.height = 0;
     if (!rendered) renderer.render(scene, camera, s);
+    const uint64_t pixel = uint64_t(py) * uint64_t(camera.width) + uint64_t(px);
     // One pixel of the aux image: depth, tau-depth, tau id, contributors.
-    auto aux = vk::download_vector<glm::uvec4>(renderer.context(), renderer.aux_buffer(), 1,
-                                               (uint64_t(py) * uint64_t(camera.width) + uint64_t(px)) * 16);
-    int32_t id = aux[0].z == 0xFFFFFFFFu ? -1 : int32_t(aux[0].z);
-    if (id < 0)
-        throw data::InputError(what, "the opacity along pixel (" + std::to_string(px) + ", " + std::to_string(py) +
-                                         ") of view " + camera.name + " never reaches tau = " +
-                                         std::to_string(settings.tau) + ": click on the object's surface");
-    const double z = double(std::bit_cast<float>(aux[0].y));
-    const glm::dvec3 cam((px + 0.5 - camera.cx) / camera.fx * z, (py + 0.5 - camera.cy) / camera.fy * z, z);
+    auto aux = vk::download_vector<glm::uvec4>(renderer.context(), renderer.aux_buffer(), 1, pixel * 16)[0];
     Anchor a;
-    a.position = glm::transpose(camera.R) * (cam - camera.t);
     a.positive = positive;
-    a.gaussian = id;
+    if (aux.z == 0xFFFFFFFFu) {
+        const float coverage = vk::download_vector<glm::vec4>(renderer.context(), renderer.image_buffer(), 1, pixel * 16)[0].w;
+        if (!(coverage >= kMinLiftCoverage))
+            throw data::InputError(what, "pixel (" + std::to_string(px) + ", " + std::to_string(py) + ") of view " +
+                                             camera.name + " is nearly empty (opacity " + std::to_string(coverage) +
+                                             " < " + std::to_string(kMinLiftCoverage) +
+                                             "): click on the object's surface");
+        s.tau = settings.tau * coverage;
+        renderer.render(scene, camera, s);
+        aux = vk::download_vector<glm::uvec4>(renderer.context(), renderer.aux_buffer(), 1, pixel * 16)[0];
+        if (aux.z == 0xFFFFFFFFu)  // cannot happen: the ray's own opacity passes tau x coverage < coverage
+            throw std::runtime_error("lift_click: the fallback tau " + std::to_string(s.tau) + " was not reached");
+        a.fallback = true;
+        a.coverage = coverage;
+    }
+    const double z = double(std::bit_cast<float>(aux.y));
+    const glm::dvec3 cam((px + 0.5 - camera.cx) / camera.fx * z, (py + 0.5 - camera.cy) / camera.fy * z, z);
+    a.position = glm::transpose(camera.R) * (cam - camera.t);
+    a.gaussian = int32_t(aux.z);
     return a;
 }
 

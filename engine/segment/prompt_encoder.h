@@ -20,12 +20,23 @@ struct Anchor {
     glm::dvec3 position{0.0};
     bool positive = true;
     int32_t gaussian = -1;  // the Gaussian at which opacity reached tau (-1 for 3D clicks)
+    // The pixel's opacity never reached tau, so the anchor is where it reached tau x its final
+    // opacity (see lift_click); `coverage` is that final opacity (1 for 3D clicks).
+    bool fallback = false;
+    float coverage = 1.0f;
 };
 
-// Lifts pixel (u, v) of `camera` (column, row; the ray goes through the pixel's centre).
-// Throws InputError naming `what` when the pixel is off the image or opacity never reaches
-// tau there. Renders the view at the camera's own size unless `rendered` says the renderer's
-// last frame is already this view with these settings.
+// A pixel whose final opacity is below this is empty: a click there lifts to nothing.
+constexpr float kMinLiftCoverage = 0.5f;
+
+// Lifts pixel (u, v) of `camera` (column, row; the ray goes through the pixel's centre) to the
+// depth where the accumulated opacity first reaches tau (the paper's rule). A pixel that is
+// clearly covered (final opacity >= kMinLiftCoverage) but never reaches tau — a translucent
+// wall, a blurry edge, a thin part — lifts where the opacity reaches tau x its final value:
+// the same fraction of what the ray meets, and the view is rendered once more for it.
+// Throws InputError naming `what` when the pixel is off the image or (nearly) empty.
+// Renders the view at the camera's own size unless `rendered` says the renderer's last frame is
+// already this view with these settings; after a fallback the renderer holds another tau.
 Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, const data::Camera& camera, double u,
                   double v, bool positive, const render::RenderSettings& settings, const std::string& what,
                   bool rendered = false);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 
 #include "dataset/error.h"
@@ -15,9 +16,34 @@ using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 }  // namespace
 
+GraphUse parse_graph_use(const std::string& name, const std::string& option) {
+    if (name == "ptv3") return GraphUse::None;
+    if (name == "graph") return GraphUse::Alone;
+    if (name == "ptv3+graph") return GraphUse::Unary;
+    throw data::InputError(option, "expected ptv3, graph or ptv3+graph, got '" + name + "'");
+}
+
+const char* graph_use_name(GraphUse use) {
+    return use == GraphUse::None ? "ptv3" : use == GraphUse::Alone ? "graph" : "ptv3+graph";
+}
+
+size_t ObjectResult::fallback_clicks() const {
+    return size_t(std::count_if(anchors.begin(), anchors.end(), [](auto& a) { return a.fallback; }));
+}
+
+size_t SegmentResult::failed() const {
+    return size_t(std::count_if(objects.begin(), objects.end(), [](auto& o) { return !o.error.empty(); }));
+}
+
 Segmenter::Segmenter(vk::Context& ctx, const data::GaussianCloud& cloud, const render::GpuScene& scene,
                      const std::vector<data::Camera>& cameras, Decoder& decoder)
-    : ctx_(ctx), cloud_(cloud), scene_(scene), cameras_(cameras), decoder_(decoder), renderer_(ctx), encoder_(ctx) {}
+    : ctx_(ctx), cloud_(cloud), scene_(scene), cameras_(cameras), decoder_(&decoder), renderer_(ctx), encoder_(ctx),
+      graph_(ctx), walker_(ctx) {}
+
+Segmenter::Segmenter(vk::Context& ctx, const data::GaussianCloud& cloud, const render::GpuScene& scene,
+                     const std::vector<data::Camera>& cameras)
+    : ctx_(ctx), cloud_(cloud), scene_(scene), cameras_(cameras), decoder_(nullptr), renderer_(ctx), encoder_(ctx),
+      graph_(ctx), walker_(ctx) {}
 
 double Segmenter::scale_from_cameras(const glm::dvec3& target) const {
     if (cameras_.empty()) return 1.0;
@@ -49,75 +75,229 @@ Anchor Segmenter::anchor_for(const data::PromptClick& click, const render::Rende
     const bool rendered = rendered_view_ == key;
     rendered_view_.clear();  // if lifting throws, the frame state is unknown
     Anchor a = lift_click(renderer_, scene_, *it, click.u, click.v, click.positive, settings, what, rendered);
-    rendered_view_ = key;
+    if (!a.fallback) rendered_view_ = key;  // a fallback leaves another tau's frame behind
     return a;
 }
 
 SegmentResult Segmenter::segment(const data::Prompts& prompts, const SegmentOptions& o) {
+    if (o.graph != GraphUse::Alone && !decoder_)
+        throw data::InputError("--decoder", std::string(graph_use_name(o.graph)) + " needs a network model");
     SegmentResult result;
-    const size_t n = cloud_.size();
+    std::vector<std::vector<uint32_t>> rois;
+    std::vector<std::vector<float>> probabilities;
+    std::vector<ObjectResult*> solved;
+    result.objects.reserve(prompts.objects.size());
     for (size_t k = 0; k < prompts.objects.size(); ++k) {
         const auto& prompt = prompts.objects[k];
-        ObjectResult obj;
+        ObjectResult& obj = result.objects.emplace_back();
         obj.id = prompt.id;
         obj.name = prompt.name;
-
-        auto t0 = Clock::now();
-        for (size_t c = 0; c < prompt.clicks.size(); ++c)
-            obj.anchors.push_back(anchor_for(prompt.clicks[c], o.render,
-                                             "prompts: object '" + prompt.name + "' click " + std::to_string(c)));
-        result.stage_ms["lift clicks"] += ms_since(t0);
-
-        // The ROI is anchored at the first positive click.
-        const Anchor& first = *std::find_if(obj.anchors.begin(), obj.anchors.end(), [](auto& a) { return a.positive; });
-        const double scale = o.scale > 0 ? o.scale : scale_from_cameras(first.position);
-        obj.sigma = o.sigma > 0 ? o.sigma : 0.4 * scale;
-        obj.roi.centre = first.position;
-        data::horizontal_axes(o.up, obj.roi.length_axis, obj.roi.width_axis);
-        obj.roi.length = o.roi_length > 0 ? o.roi_length : 2.5 * scale;
-        obj.roi.width = o.roi_width > 0 ? o.roi_width : 2.5 * scale;
-
-        t0 = Clock::now();
-        EncodedPrompt encoded = encoder_.encode(scene_, obj.anchors, obj.sigma, obj.roi);
-        result.stage_ms["encode + roi"] += ms_since(t0);
-        obj.roi_gaussians = encoded.indices.size();
-        if (encoded.indices.empty())
-            throw data::InputError("prompts: object '" + prompt.name + "'",
-                                   "the ROI around its first positive click holds no Gaussians (try a larger --roi)");
-
-        t0 = Clock::now();
-        // Partition positions within the ROI list, then map them back to scene indices.
-        std::vector<uint32_t> slots(encoded.indices.size());
-        for (uint32_t i = 0; i < slots.size(); ++i) slots[i] = i;
-        auto batches = partition_roi(slots, o.max_batch, o.seed + k);
-        obj.batches = batches.size();
-        result.stage_ms["partition"] += ms_since(t0);
-
-        t0 = Clock::now();
-        for (const auto& batch_slots : batches) {
-            DecoderBatch batch;
-            batch.frame = data::train::RoiFrame::around(first.position, o.up, scale);
-            for (auto& a : obj.anchors)
-                if (a.positive) batch.click_gaussians.push_back(a.gaussian);
-            batch.gaussians.reserve(batch_slots.size());
-            for (uint32_t s : batch_slots) {
-                uint32_t g = encoded.indices[s];
-                batch.gaussians.push_back(g);
-                batch.coords.push_back(cloud_.mean[g]);
-                batch.features.push_back(encoded.weights[s]);
-            }
-            auto p = decoder_.predict(batch);
-            if (p.size() != batch.gaussians.size())
-                throw std::runtime_error("decoder " + decoder_.name() + " returned the wrong number of probabilities");
-            // MAP over foreground/background (the paper's fg > bg for two classes).
-            for (size_t i = 0; i < p.size(); ++i)
-                if (p[i] > 0.5f) obj.claims.push_back({batch.gaussians[i], p[i]});
+        std::vector<uint32_t> roi;
+        std::vector<float> p;
+        try {
+            prepare(prompt, k, o, obj, p, roi, result);
+        } catch (const data::InputError& e) {
+            if (o.strict) throw;
+            obj.error = e.what();
+            obj.claims.clear();
+            continue;
         }
-        result.stage_ms["decode"] += ms_since(t0);
-        result.objects.push_back(std::move(obj));
+        if (o.graph == GraphUse::None) {
+            // MAP over foreground/background (the paper's fg > bg for two classes).
+            for (size_t i = 0; i < roi.size(); ++i)
+                if (p[i] > 0.5f) obj.claims.push_back({roi[i], p[i]});
+        }
+        rois.push_back(std::move(roi));
+        probabilities.push_back(std::move(p));
     }
-    result.assemble(n);
+    for (auto& obj : result.objects)
+        if (obj.error.empty()) solved.push_back(&obj);
+    if (o.graph != GraphUse::None && !solved.empty()) solve_graph(o, solved, rois, probabilities, result);
+    result.assemble(cloud_.size());
     return result;
+}
+
+void Segmenter::prepare(const data::ObjectPrompt& prompt, size_t index, const SegmentOptions& o, ObjectResult& obj,
+                        std::vector<float>& roi_probability, std::vector<uint32_t>& roi, SegmentResult& result) {
+    const std::string what = "prompts: object '" + prompt.name + "'";
+    auto t0 = Clock::now();
+    for (size_t c = 0; c < prompt.clicks.size(); ++c)
+        obj.anchors.push_back(anchor_for(prompt.clicks[c], o.render, what + " click " + std::to_string(c)));
+    result.stage_ms["lift clicks"] += ms_since(t0);
+    auto first_it = std::find_if(obj.anchors.begin(), obj.anchors.end(), [](auto& a) { return a.positive; });
+    if (first_it == obj.anchors.end()) throw data::InputError(what, "has no positive click");
+
+    // The ROI is anchored at the first positive click.
+    const Anchor first = *first_it;
+    const double scale = o.scale > 0 ? o.scale : scale_from_cameras(first.position);
+    obj.sigma = o.sigma > 0 ? o.sigma : 0.4 * scale;
+    obj.roi.centre = first.position;
+    data::horizontal_axes(o.up, obj.roi.length_axis, obj.roi.width_axis);
+    obj.roi.length = o.roi_length > 0 ? o.roi_length : 2.5 * scale;
+    obj.roi.width = o.roi_width > 0 ? o.roi_width : 2.5 * scale;
+
+    t0 = Clock::now();
+    EncodedPrompt encoded = encoder_.encode(scene_, obj.anchors, obj.sigma, obj.roi);
+    result.stage_ms["encode + roi"] += ms_since(t0);
+    obj.roi_gaussians = encoded.indices.size();
+    if (encoded.indices.empty())
+        throw data::InputError(what, "the ROI around its first positive click holds no Gaussians (try a larger --roi)");
+    roi = encoded.indices;
+    if (o.graph == GraphUse::Alone) return;
+
+    t0 = Clock::now();
+    // Partition positions within the ROI list, then map them back to scene indices.
+    std::vector<uint32_t> slots(encoded.indices.size());
+    for (uint32_t i = 0; i < slots.size(); ++i) slots[i] = i;
+    auto batches = partition_roi(slots, o.max_batch, o.seed + index);
+    obj.batches = batches.size();
+    result.stage_ms["partition"] += ms_since(t0);
+
+    t0 = Clock::now();
+    roi_probability.assign(roi.size(), 0.0f);
+    for (const auto& batch_slots : batches) {
+        DecoderBatch batch;
+        batch.frame = data::train::RoiFrame::around(first.position, o.up, scale);
+        for (auto& a : obj.anchors)
+            if (a.positive) batch.click_gaussians.push_back(a.gaussian);
+        batch.gaussians.reserve(batch_slots.size());
+        for (uint32_t s : batch_slots) {
+            uint32_t g = encoded.indices[s];
+            batch.gaussians.push_back(g);
+            batch.coords.push_back(cloud_.mean[g]);
+            batch.features.push_back(encoded.weights[s]);
+        }
+        auto p = decoder_->predict(batch);
+        if (p.size() != batch.gaussians.size())
+            throw std::runtime_error("decoder " + decoder_->name() + " returned the wrong number of probabilities");
+        for (size_t i = 0; i < p.size(); ++i) roi_probability[batch_slots[i]] = p[i];
+    }
+    result.stage_ms["decode"] += ms_since(t0);
+}
+
+void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
+                            const std::vector<std::vector<uint32_t>>& rois,
+                            const std::vector<std::vector<float>>& probabilities, SegmentResult& result) {
+    auto t0 = Clock::now();
+    const size_t n = cloud_.size(), m = objects.size();
+    // The domain: every Gaussian within an ROI column widened by the margin. Between the ROI and
+    // the margin lies the background's evidence of last resort: the object-scale rule's ROI.
+    std::vector<int32_t> node_of(n, -1);
+    std::vector<uint8_t> in_roi;
+    std::vector<uint32_t> domain;
+    for (size_t i = 0; i < n; ++i) {
+        glm::dvec3 mu(cloud_.mean[i]);
+        for (auto* obj : objects) {
+            const RoiBox& r = obj->roi;
+            glm::dvec3 rel = mu - r.centre;
+            double l = std::abs(glm::dot(rel, r.length_axis)) / (r.length / 2);
+            double w = std::abs(glm::dot(rel, r.width_axis)) / (r.width / 2);
+            if (l <= 1 + 2 * o.graph_margin && w <= 1 + 2 * o.graph_margin) {
+                node_of[i] = int32_t(domain.size());
+                domain.push_back(uint32_t(i));
+                break;
+            }
+        }
+    }
+    in_roi.assign(domain.size(), 0);
+    for (auto& roi : rois)
+        for (uint32_t g : roi)
+            if (node_of[g] >= 0) in_roi[size_t(node_of[g])] = 1;
+    const bool same_graph = domain == graph_domain_ && o.graph_options.k == graph_built_with_.k &&
+                            o.graph_options.cell == graph_built_with_.cell &&
+                            o.graph_options.colour == graph_built_with_.colour &&
+                            o.graph_options.normal == graph_built_with_.normal &&
+                            o.graph_options.distance == graph_built_with_.distance;
+    if (!same_graph) {
+        graph_.build(scene_, cloud_, domain, o.graph_options);
+        graph_domain_ = domain;
+        graph_built_with_ = o.graph_options;
+        last_solution_.clear();
+    }
+    result.stage_ms["graph build"] += ms_since(t0);
+
+    t0 = Clock::now();
+    // Labels: 0 background, 1 + j object j.
+    const uint32_t nodes = uint32_t(domain.size()), labels = uint32_t(m + 1);
+    WalkProblem pr;
+    pr.labels = labels;
+    pr.seed.assign(nodes, -1);
+    for (uint32_t i = 0; i < nodes; ++i)
+        if (!in_roi[i]) pr.seed[i] = 0;
+    for (size_t j = 0; j < m; ++j)
+        for (auto& a : objects[j]->anchors)
+            if (a.gaussian >= 0 && node_of[size_t(a.gaussian)] >= 0)
+                pr.seed[size_t(node_of[size_t(a.gaussian)])] = a.positive ? int32_t(j + 1) : 0;
+    if (o.graph == GraphUse::Unary) {
+        // The network's probabilities as a prior: q_j = p_j where object j's ROI holds the node,
+        // background = the product of (1 - p_j), normalised; strength `unary` x the node's degree.
+        std::vector<float> fg(size_t(nodes) * labels, 0.0f), bg(nodes, 1.0f);
+        for (size_t j = 0; j < m; ++j)
+            for (size_t s = 0; s < rois[j].size(); ++s) {
+                int32_t i = node_of[rois[j][s]];
+                if (i < 0) continue;
+                fg[size_t(i) * labels + j + 1] = probabilities[j][s];
+                bg[size_t(i)] *= 1.0f - probabilities[j][s];
+            }
+        auto degree = vk::download_vector<float>(ctx_, graph_.degree_buffer(), nodes);
+        pr.gamma.assign(nodes, 0.0f);
+        pr.prior = std::move(fg);
+        for (uint32_t i = 0; i < nodes; ++i) {
+            float* q = &pr.prior[size_t(i) * labels];
+            q[0] = bg[i];
+            float sum = 0, top = 0;
+            for (uint32_t l = 0; l < labels; ++l) sum += q[l];
+            for (uint32_t l = 0; l < labels; ++l) top = std::max(top, q[l] /= sum);
+            // Only where the network is sure: elsewhere the graph decides.
+            pr.gamma[i] = top >= o.unary_confidence ? o.unary * degree[i] : 0.0f;
+        }
+    }
+    // Warm start: a label solved before on this graph starts from its last solution.
+    std::vector<int> ids(labels, 0);
+    for (size_t j = 0; j < m; ++j) ids[j + 1] = objects[j]->id;
+    bool warm = false;
+    for (int id : ids) warm = warm || last_solution_.count(id);
+    if (warm) {
+        pr.start.assign(size_t(nodes) * labels, 0.0f);
+        for (uint32_t l = 0; l < labels; ++l) {
+            auto it = last_solution_.find(ids[l]);
+            for (uint32_t i = 0; i < nodes; ++i)
+                pr.start[size_t(i) * labels + l] =
+                    it != last_solution_.end() ? it->second[i] : (pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l]);
+        }
+    }
+    auto solution = walker_.solve(graph_, pr, o.walk);
+    last_solution_.clear();
+    for (uint32_t l = 0; l < labels; ++l) {
+        auto& column = last_solution_[ids[l]];
+        column.resize(nodes);
+        for (uint32_t i = 0; i < nodes; ++i) column[i] = solution.x[size_t(i) * labels + l];
+    }
+
+    GraphReport report;
+    report.nodes = nodes;
+    report.seeds = size_t(std::count_if(pr.seed.begin(), pr.seed.end(), [](int32_t s) { return s >= 0; }));
+    report.iterations = solution.iterations;
+    report.residual = solution.residual;
+    report.cell = graph_.cell_side();
+    report.spacing = graph_.median_spacing();
+    for (uint32_t i = 0; i < nodes; ++i) {
+        const float* x = &solution.x[size_t(i) * labels];
+        float sum = 0, best = 0;
+        uint32_t arg = 0;
+        for (uint32_t l = 0; l < labels; ++l) {
+            float v = std::max(0.0f, x[l]);
+            sum += v;
+            if (v > best) best = v, arg = l;
+        }
+        if (!(sum > 1e-6f)) {
+            ++report.unreached;
+            continue;
+        }
+        if (arg > 0) objects[arg - 1]->claims.push_back({domain[i], best / sum});
+    }
+    result.graph = report;
+    result.stage_ms["graph solve"] += ms_since(t0);
 }
 
 void SegmentResult::assemble(size_t gaussian_count) {

@@ -3,7 +3,11 @@
 // prompt encoder weighs the Gaussians and crops the ROI column, the ROI is partitioned into
 // batches for the decoder, and each Gaussian goes to the object that claims it with the
 // highest probability (above 1/2, the paper's argmax of foreground vs background).
+// With a graph decoder (see GraphUse) all objects are then solved together by a random walk
+// over the Gaussians' kNN graph. An object whose clicks cannot be lifted (or whose ROI is
+// empty) fails alone: its error is kept and the others are segmented.
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,9 +16,21 @@
 #include "dataset/prompts.h"
 #include "engine/render/renderer.h"
 #include "engine/segment/decoder.h"
+#include "engine/segment/knn_graph.h"
 #include "engine/segment/prompt_encoder.h"
+#include "engine/segment/random_walker.h"
 
 namespace pg::seg {
+
+// How the random-walk graph decoder takes part (`--decoder`): not at all (ptv3), alone (graph:
+// every object's positive clicks seed its label, negative clicks and the Gaussians between
+// the objects' ROIs and the margin around them seed the background), or with the network's
+// probabilities as unary terms of the same solve (ptv3+graph).
+enum class GraphUse { None, Alone, Unary };
+
+// "ptv3", "graph", "ptv3+graph"; InputError naming `option` otherwise.
+GraphUse parse_graph_use(const std::string& name, const std::string& option = "--decoder");
+const char* graph_use_name(GraphUse use);
 
 struct SegmentOptions {
     glm::dvec3 up{0, -1, 0};     // the scene's up axis (see dataset/up_axis.h)
@@ -24,6 +40,13 @@ struct SegmentOptions {
     uint32_t max_batch = 8192;
     uint64_t seed = 1;
     render::RenderSettings render;  // tau and the like for click lifting
+    bool strict = false;          // an object that fails stops the run (InputError) instead of failing alone
+    GraphUse graph = GraphUse::None;
+    GraphOptions graph_options;
+    WalkOptions walk;
+    double graph_margin = 0.5;    // the solve's domain: the ROI columns widened by this fraction per side
+    float unary = 1.0f;           // ptv3+graph: a node's unary strength, in units of its degree,
+    float unary_confidence = 0.97f;  // where the network's most likely label has at least this probability
 };
 
 struct ObjectResult {
@@ -35,6 +58,14 @@ struct ObjectResult {
     size_t roi_gaussians = 0, batches = 0, labelled = 0;
     // Gaussians the decoder gave this object with P(foreground) > 1/2, and that probability.
     std::vector<std::pair<uint32_t, float>> claims;
+    std::string error;            // why the object failed (no labels); empty if it was segmented
+    size_t fallback_clicks() const;
+};
+
+struct GraphReport {
+    size_t nodes = 0, seeds = 0, unreached = 0;  // unreached: no seed or prior in their component
+    uint32_t iterations = 0;
+    double residual = 0, cell = 0, spacing = 0;
 };
 
 struct SegmentResult {
@@ -42,6 +73,8 @@ struct SegmentResult {
     std::vector<float> probability;    // the winning probability (0 where unlabelled)
     std::vector<ObjectResult> objects;
     std::map<std::string, double> stage_ms;  // wall ms per stage, summed over objects
+    std::optional<GraphReport> graph;
+    size_t failed() const;
 
     // Recomputes labels from the objects' claims: a Gaussian claimed twice goes to the higher
     // probability (ties: the earlier object).
@@ -54,6 +87,9 @@ class Segmenter {
 public:
     Segmenter(vk::Context& ctx, const data::GaussianCloud& cloud, const render::GpuScene& scene,
               const std::vector<data::Camera>& cameras, Decoder& decoder);
+    // Without a network: only GraphUse::Alone works.
+    Segmenter(vk::Context& ctx, const data::GaussianCloud& cloud, const render::GpuScene& scene,
+              const std::vector<data::Camera>& cameras);
 
     SegmentResult segment(const data::Prompts& prompts, const SegmentOptions& options);
 
@@ -61,15 +97,27 @@ public:
     double scale_from_cameras(const glm::dvec3& target) const;
 
 private:
+    // Lifts, scales and encodes one object and runs the network over its ROI; InputError if it fails.
+    void prepare(const data::ObjectPrompt& prompt, size_t index, const SegmentOptions& o, ObjectResult& obj,
+                 std::vector<float>& roi_probability, std::vector<uint32_t>& roi, SegmentResult& result);
+    // The joint random walk over the objects that did not fail.
+    void solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
+                     const std::vector<std::vector<uint32_t>>& rois, const std::vector<std::vector<float>>& probabilities,
+                     SegmentResult& result);
     Anchor anchor_for(const data::PromptClick& click, const render::RenderSettings& settings, const std::string& what);
 
     vk::Context& ctx_;
     const data::GaussianCloud& cloud_;
     const render::GpuScene& scene_;
     const std::vector<data::Camera>& cameras_;
-    Decoder& decoder_;
+    Decoder* decoder_;
     render::Renderer renderer_;
     PromptEncoder encoder_;
+    KnnGraph graph_;
+    RandomWalker walker_;
+    std::vector<uint32_t> graph_domain_;  // the domain graph_ was built over, and with which options
+    GraphOptions graph_built_with_;
+    std::map<int, std::vector<float>> last_solution_;  // per label id (0: background), for warm starts
     std::string rendered_view_;  // view and settings renderer_ holds: clicks in one view render it once
 };
 

@@ -12,6 +12,7 @@
 #include "engine/segment/prompt_encoder.h"
 #include "engine/segment/segmenter.h"
 #include "tests/gpu_fixture.h"
+#include "tests/reference/cpu_rasterizer.h"
 #include "tests/reference/test_scenes.h"
 
 using namespace pg;
@@ -217,4 +218,54 @@ TEST_CASE("segmenter: clicks in the same view give the same anchors whether or n
         CHECK(glm::length(r1.objects[0].anchors[k].position - r2.objects[0].anchors[k].position) == 0.0);
     }
     CHECK(r1.labels == r2.labels);
+}
+
+TEST_CASE("click lifting: a translucent surface lifts where opacity reaches tau x its final value") {
+    // Two sparse translucent walls (z = 2 and z = 2.6): no pixel reaches tau = 0.9, many are clearly covered.
+    data::GaussianCloud cloud;
+    for (int layer = 0; layer < 2; ++layer)
+        for (int y = -12; y <= 12; ++y)
+            for (int x = -12; x <= 12; ++x)
+                ref::add_gaussian(cloud, glm::vec3(x * 0.08f, y * 0.08f, 2.0f + 0.6f * float(layer)),
+                                  glm::vec3(std::log(0.05f), std::log(0.05f), -6.0f), glm::vec4(1, 0, 0, 0),
+                                  layer == 0 ? 0.0f : -0.5f, glm::vec3(0.0f));
+    data::Camera cam;
+    cam.name = "front";
+    cam.width = 64;
+    cam.height = 48;
+    cam.fx = cam.fy = 60;
+    cam.cx = 32;
+    cam.cy = 24;
+    auto plain = ref::render_reference(cloud, cam);
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, cloud);
+    render::Renderer renderer(ctx);
+    size_t fallbacks = 0;
+    for (int py = 4; py < cam.height; py += 9)
+        for (int px = 3; px < cam.width; px += 7) {
+            const size_t at = size_t(py) * cam.width + px;
+            const float alpha = plain.alpha[at];
+            if (plain.tau_id[at] >= 0 || std::abs(alpha - seg::kMinLiftCoverage) < 0.02f) continue;
+            if (alpha < seg::kMinLiftCoverage) {
+                try {
+                    seg::lift_click(renderer, gpu, cam, px, py, true, {}, "click 3");
+                    FAIL("expected an error");
+                } catch (const data::InputError& e) {
+                    CHECK(std::string(e.what()).find("nearly empty") != std::string::npos);
+                    CHECK(std::string(e.what()).find("click 3") != std::string::npos);
+                }
+                continue;
+            }
+            // The reference: the depth where the ray's opacity reaches 0.9 x alpha.
+            ref::RefOptions ro;
+            ro.tau = 0.9f * alpha;
+            auto want = ref::render_reference(cloud, cam, ro);
+            auto a = seg::lift_click(renderer, gpu, cam, px, py, true, {}, "click");
+            CHECK(a.fallback);
+            CHECK(a.coverage == Approx(alpha).margin(1e-4));
+            CHECK(a.gaussian == want.tau_id[at]);
+            CHECK(a.position.z == Approx(want.tau_depth[at]).margin(1e-4));
+            ++fallbacks;
+        }
+    CHECK(fallbacks >= 5);
 }

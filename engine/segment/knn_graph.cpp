@@ -1,0 +1,134 @@
+#include "engine/segment/knn_graph.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "dataset/clicks/kd_tree.h"
+#include "dataset/error.h"
+#include "shaders/segment/graph_shared.h"
+
+namespace pg::seg {
+
+namespace {
+
+uint32_t groups(uint64_t n) { return uint32_t((n + gpu::kGraphGroup - 1) / gpu::kGraphGroup); }
+
+uint32_t bits_for(uint32_t cells) {
+    uint32_t b = 0;
+    while ((1ull << b) < cells) ++b;
+    return b;
+}
+
+// Median distance from a node to its nearest other node, over a sample of up to 1000 nodes
+// (queried against the nodes outside the sample, so a query never finds itself).
+float spacing_of(const std::vector<glm::vec3>& p) {
+    const size_t n = p.size();
+    if (n < 2) return 1.0f;
+    const size_t step = std::max<size_t>(2, n / 1000);
+    std::vector<uint32_t> rest;
+    std::vector<size_t> queries;
+    for (size_t i = 0; i < n; ++i) (i % step == 0 ? queries.push_back(i) : rest.push_back(uint32_t(i)));
+    data::clicks::KdTree tree(p, rest);
+    std::vector<double> d;
+    for (size_t q : queries) d.push_back(std::sqrt(tree.nearest2(glm::dvec3(p[q]), 1e30)));
+    std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
+    double m = d[d.size() / 2];
+    return m > 0 && std::isfinite(m) ? float(m) : 1e-6f;
+}
+
+}  // namespace
+
+KnnGraph::KnnGraph(vk::Context& ctx) : ctx_(ctx), cmd_(ctx), sort_(ctx) {
+    for (auto* b : {&domain_buf_, &pos_, &colour_, &normal_, &keys_, &values_, &nbr_, &dist_, &spacing_, &weight_,
+                    &rows_, &degree_})
+        *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "graph");
+}
+
+void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& cloud,
+                     const std::vector<uint32_t>& domain, const GraphOptions& o) {
+    if (o.k < 1 || o.k > gpu::kGraphMaxK)
+        throw data::InputError("graph k", "must be 1.." + std::to_string(gpu::kGraphMaxK) + ", got " + std::to_string(o.k));
+    if (!(o.cell > 0) || !(o.distance > 0) || !(o.colour >= 0) || !(o.normal >= 0))
+        throw data::InputError("graph weights", "cell and distance must be positive, colour and normal >= 0");
+    domain_ = domain;
+    nodes_ = uint32_t(domain.size());
+    k_ = o.k;
+    const uint32_t n = nodes_, k = k_;
+    if (n == 0) return;
+    const uint64_t entries = 2ull * n * k;
+    if (entries >= 0xFFFFFFFFull) throw std::runtime_error("graph: too many nodes for 32-bit edge ids");
+
+    // The grid: robust bounds (outliers clamp into the border cells) and a cell side from the spacing.
+    std::vector<glm::vec3> p(n);
+    for (uint32_t i = 0; i < n; ++i) p[i] = cloud.mean[domain[i]];
+    median_spacing_ = spacing_of(p);
+    glm::vec3 lo, hi;
+    std::vector<float> axis(n);
+    for (int a = 0; a < 3; ++a) {
+        for (uint32_t i = 0; i < n; ++i) axis[i] = p[i][a];
+        auto at = [&](double q) {
+            auto it = axis.begin() + long(q * double(n - 1));
+            std::nth_element(axis.begin(), it, axis.end());
+            return *it;
+        };
+        lo[a] = at(0.005);
+        hi[a] = at(0.995);
+    }
+    cell_ = o.cell * median_spacing_;
+    glm::uvec3 dims, bits;
+    for (;;) {
+        for (int a = 0; a < 3; ++a) {
+            dims[a] = uint32_t(std::min(1e6, std::floor(double(hi[a] - lo[a]) / cell_) + 1.0));
+            bits[a] = bits_for(dims[a]);
+        }
+        if (bits.x + bits.y + bits.z <= 32) break;
+        cell_ *= 1.25f;  // a grid too fine for 32-bit keys: coarser cells stay exact, only slower
+    }
+
+    const uint64_t nk = uint64_t(n) * k;
+    domain_buf_.ensure(uint64_t(n) * 4);
+    vk::upload(ctx_, domain_buf_, domain.data(), uint64_t(n) * 4);
+    pos_.ensure(uint64_t(n) * 16);
+    colour_.ensure(uint64_t(n) * 16);
+    normal_.ensure(uint64_t(n) * 16);
+    keys_.ensure(std::max<uint64_t>(n, entries) * 4);
+    values_.ensure(std::max<uint64_t>(n, entries) * 4);
+    nbr_.ensure(nk * 4);
+    dist_.ensure(nk * 4);
+    spacing_.ensure(uint64_t(n) * 4);
+    weight_.ensure(nk * 4);
+    rows_.ensure(uint64_t(n + 1) * 4);
+    degree_.ensure(uint64_t(n) * 4);
+
+    gpu::GraphNodesPush nodes_push{{n, scene.sh_floats(), 0, 0}};
+    gpu::GraphGridPush grid{glm::vec4(lo, 1.0f / cell_), glm::uvec4(dims, 0), glm::uvec4(bits.x, bits.y, n, k)};
+    gpu::GraphWeightsPush wpush{glm::vec4(o.colour, o.normal, o.distance, 0), {n, k, 0, 0}};
+    gpu::GraphEdgesPush epush{{n, k, uint32_t(entries), 0}};
+
+    cmd_.begin_pass("graph nodes");
+    cmd_.dispatch("segment/graph_nodes", {scene.means, scene.shapes, scene.sh, domain_buf_, pos_, colour_, normal_},
+                  nodes_push, groups(n));
+    cmd_.begin_pass("graph cells");
+    cmd_.dispatch("segment/graph_cells", {pos_, keys_, values_}, grid, groups(n));
+    sort_.sort(cmd_, keys_, values_, n, std::max(1u, bits.x + bits.y + bits.z), sort::KeyWidth::Bits32);
+    cmd_.begin_pass("graph knn");
+    cmd_.dispatch("segment/graph_knn", {pos_, keys_, values_, nbr_, dist_, spacing_}, grid, groups(n));
+    cmd_.begin_pass("graph weights");
+    cmd_.dispatch("segment/graph_weights", {pos_, colour_, normal_, nbr_, dist_, spacing_, weight_}, wpush, groups(nk));
+    cmd_.begin_pass("graph adjacency");
+    cmd_.dispatch("segment/graph_edge_keys", {nbr_, keys_, values_}, epush, groups(entries));
+    sort_.sort(cmd_, keys_, values_, uint32_t(entries), bits_for(n + 1), sort::KeyWidth::Bits32);
+    cmd_.dispatch("segment/graph_rows", {keys_, values_, nbr_, weight_, rows_, degree_}, epush, groups(uint64_t(n) + 1));
+    cmd_.end_pass();
+    cmd_.submit_and_wait();
+    timings_ = cmd_.timings();
+}
+
+std::vector<uint32_t> KnnGraph::neighbours() const {
+    return vk::download_vector<uint32_t>(ctx_, nbr_, uint64_t(nodes_) * k_);
+}
+
+std::vector<float> KnnGraph::weights() const { return vk::download_vector<float>(ctx_, weight_, uint64_t(nodes_) * k_); }
+
+}  // namespace pg::seg

@@ -1,0 +1,66 @@
+#pragma once
+// The graph decoder's graph on the GPU: the k nearest neighbours of every Gaussian of a domain
+// (a uniform grid over the domain's robust bounds, cell side a multiple of the median spacing,
+// the 27 surrounding cells searched), an affinity per edge from colour, distance relative to
+// the local spacing, normals of the flattest axes and opacity, and the symmetric adjacency
+// W + W^T as rows of edge ids with each node's degree.
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "dataset/gaussian_cloud.h"
+#include "engine/render/gpu_scene.h"
+#include "engine/sort/radix_sort.h"
+#include "engine/vk/buffer.h"
+#include "engine/vk/commands.h"
+
+namespace pg::seg {
+
+struct GraphOptions {
+    uint32_t k = 10;            // neighbours per node (at most 16)
+    float cell = 2.5f;          // grid cell side in median nearest-neighbour distances
+    float colour = 3.0f;        // beta_c: weight exp(-beta_c |rgb_i - rgb_j|^2), rgb in [0, 1]
+    float normal = 2.0f;        // beta_n: exp(-beta_n f_i f_j (1 - (n_i . n_j)^2))
+    float distance = 1.0f;      // beta_d: exp(-(d / (beta_d s))^2), s the local spacing
+};
+
+class KnnGraph {
+public:
+    explicit KnnGraph(vk::Context& ctx);
+
+    // Builds the graph over `domain` (scene indices, as the node order); `cloud` is the host
+    // copy of the scene, for the bounds and spacing that size the grid.
+    void build(const render::GpuScene& scene, const data::GaussianCloud& cloud, const std::vector<uint32_t>& domain,
+               const GraphOptions& options);
+
+    uint32_t nodes() const { return nodes_; }
+    uint32_t k() const { return k_; }
+    const std::vector<uint32_t>& domain() const { return domain_; }
+    float cell_side() const { return cell_; }
+    float median_spacing() const { return median_spacing_; }
+    const std::vector<vk::PassTiming>& timings() const { return timings_; }
+
+    // Host copies, for tests and component counts: k per node, kGraphNone for an empty slot.
+    std::vector<uint32_t> neighbours() const;
+    std::vector<float> weights() const;
+
+    // Device buffers the random walker reads.
+    const vk::Buffer& rows() const { return rows_; }        // n + 1 starts into entries()
+    const vk::Buffer& entries() const { return values_; }   // edge ids, row by row
+    const vk::Buffer& neighbour_buffer() const { return nbr_; }
+    const vk::Buffer& weight_buffer() const { return weight_; }
+    const vk::Buffer& degree_buffer() const { return degree_; }
+
+private:
+    vk::Context& ctx_;
+    vk::CommandList cmd_;
+    sort::RadixSort sort_;
+    vk::Buffer domain_buf_, pos_, colour_, normal_, keys_, values_, nbr_, dist_, spacing_, weight_, rows_, degree_;
+    std::vector<uint32_t> domain_;
+    uint32_t nodes_ = 0, k_ = 0;
+    float cell_ = 0, median_spacing_ = 0;
+    std::vector<vk::PassTiming> timings_;
+};
+
+}  // namespace pg::seg

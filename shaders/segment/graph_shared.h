@@ -1,0 +1,67 @@
+// Layouts and constants shared by the graph decoder's C++ (engine/segment/knn_graph,
+// random_walker) and its GLSL kernels (shaders/segment/graph_*, walk_*): one definition.
+// Only vec4/uvec4-aligned members, so std430 and C++ agree byte for byte.
+#ifndef PG_GRAPH_SHARED_H
+#define PG_GRAPH_SHARED_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace pg::seg::gpu {
+using vec4 = glm::vec4;
+using uvec4 = glm::uvec4;
+using uint = uint32_t;
+#define PG_GRAPH_CONST inline constexpr
+#else
+#define PG_GRAPH_CONST const
+#endif
+
+PG_GRAPH_CONST uint kGraphGroup = 256;
+PG_GRAPH_CONST uint kGraphMaxK = 16;         // neighbours kept per node (the k option <= this)
+PG_GRAPH_CONST uint kGraphNone = 0xFFFFFFFFu;  // an empty neighbour slot
+PG_GRAPH_CONST uint kWalkMaxLabels = 16;     // label columns of one solve (more run as several)
+PG_GRAPH_CONST uint kWalkVecs = kWalkMaxLabels / 4;  // a node's columns as vec4s (unused ones stay 0)
+PG_GRAPH_CONST int kWalkFree = -1;           // a node that is no seed
+
+// graph_nodes: the domain's Gaussians gathered into node attributes.
+struct GraphNodesPush {
+    uvec4 size;  // x: nodes, y: SH floats per Gaussian
+};
+
+// graph_cells, graph_knn: a uniform grid of cell side 1 / origin.w over the robust bounds.
+struct GraphGridPush {
+    vec4 origin;  // xyz: grid corner, w: 1 / cell side
+    uvec4 dims;   // cells along x, y, z (a cell key packs x | y << bits.x | z << (bits.x + bits.y))
+    uvec4 bits;   // x, y: key bits of the x and y coordinates; z: nodes; w: k
+};
+
+// graph_weights: affinity of an edge = colour x distance x normal x opacity terms.
+struct GraphWeightsPush {
+    vec4 beta;   // x: colour, y: normal, z: distance (in local spacings), w: unused
+    uvec4 size;  // x: nodes, y: k
+};
+
+// graph_edge_keys, graph_rows, graph_degree: the symmetric adjacency W + W^T as rows of
+// directed-edge ids (e < n*k: slot e of the kNN table; else the reverse of slot e - n*k).
+struct GraphEdgesPush {
+    uvec4 size;  // x: nodes, y: k, z: entries (2 n k), w: unused
+};
+
+// walk_*: the random walker's preconditioned conjugate gradient over kWalkMaxLabels columns
+// (a node's values are kWalkVecs vec4s, fixed-size loops the compiler keeps in registers).
+struct WalkPush {
+    uvec4 size;  // x: nodes, y: k, z: labels in use, w: workgroups of the node passes
+    uvec4 mode;  // x: walk_apply 1 = also partial dots v . Av; walk_residual / walk_reduce 0 r.z,
+                 // 1 alpha, 2 beta, 3 b.b / diag;
+                 // y: the label of column 0 (seeds hold labels of all columns)
+};
+
+// Per-label scalars of the solve (walk_reduce writes, walk_update / walk_direction read).
+struct WalkScalars {
+    vec4 value;  // x: r.z, y: alpha, z: beta, w: b.b / diag
+};
+
+#ifdef __cplusplus
+}  // namespace pg::seg::gpu
+#endif
+#endif

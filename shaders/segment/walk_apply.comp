@@ -1,0 +1,38 @@
+#version 450
+// y = A v over the unknown nodes: (degree + gamma) v_i - sum over unknown neighbours w v_j
+// (seed rows and columns are out of the system); with mode.x = 1 also the partial dots v . y.
+#extension GL_GOOGLE_include_directive : require
+#include "common/dispatch.glsl"
+#include "segment/graph_shared.h"
+
+layout(local_size_x = 256) in;
+layout(std430, binding = 0) readonly buffer Rows { uint rows[]; };
+layout(std430, binding = 1) readonly buffer Edges { uvec2 edges[]; };  // walk_edges: column, weight bits
+layout(std430, binding = 2) readonly buffer Degree { float degree[]; };
+layout(std430, binding = 3) readonly buffer Seed { int seed[]; };
+layout(std430, binding = 4) readonly buffer Gamma { float gamma[]; };
+layout(std430, binding = 5) readonly buffer V { vec4 v[]; };
+layout(std430, binding = 6) writeonly buffer Y { vec4 y[]; };
+layout(std430, binding = 7) writeonly buffer Partials { vec4 partials[]; };
+layout(push_constant) uniform Push { WalkPush pc; };
+#include "segment/walk_common.glsl"
+
+void main() {
+    uint i = pg_global_index();
+    uint n = pc.size.x;
+    vec4 acc[kWalkVecs], dots[kWalkVecs];
+    for (uint c = 0u; c < kWalkVecs; ++c) acc[c] = vec4(0.0), dots[c] = vec4(0.0);
+    if (i < n && seed[i] == kWalkFree) {
+        float diag = degree[i] + gamma[i];
+        for (uint c = 0u; c < kWalkVecs; ++c) acc[c] = diag * v[i * kWalkVecs + c];
+        for (uint s = rows[i]; s < rows[i + 1u]; ++s) {
+            uvec2 e = edges[s];
+            float w = uintBitsToFloat(e.y);
+            for (uint c = 0u; c < kWalkVecs; ++c) acc[c] -= w * v[e.x * kWalkVecs + c];
+        }
+        for (uint c = 0u; c < kWalkVecs; ++c) dots[c] = acc[c] * v[i * kWalkVecs + c];
+    }
+    if (i < n)
+        for (uint c = 0u; c < kWalkVecs; ++c) y[i * kWalkVecs + c] = acc[c];
+    if (pc.mode.x == 1u) WALK_STORE_PARTIALS(dots, partials);
+}

@@ -1,0 +1,38 @@
+#version 450
+// Conjugate gradient step: x += alpha p, r -= alpha Ap, z = r / diag, partial dots r . z.
+#extension GL_GOOGLE_include_directive : require
+#include "common/dispatch.glsl"
+#include "segment/graph_shared.h"
+
+layout(local_size_x = 256) in;
+layout(std430, binding = 0) readonly buffer Scalars { WalkScalars scalars[]; };
+layout(std430, binding = 1) readonly buffer P { vec4 p[]; };
+layout(std430, binding = 2) readonly buffer Ap { vec4 ap[]; };
+layout(std430, binding = 3) readonly buffer InvDiag { float inv_diag[]; };
+layout(std430, binding = 4) buffer X { vec4 x[]; };
+layout(std430, binding = 5) buffer R { vec4 r[]; };
+layout(std430, binding = 6) writeonly buffer Z { vec4 z[]; };
+layout(std430, binding = 7) writeonly buffer Partials { vec4 partials[]; };
+layout(push_constant) uniform Push { WalkPush pc; };
+#include "segment/walk_common.glsl"
+
+void main() {
+    uint i = pg_global_index();
+    vec4 dots[kWalkVecs];
+    for (uint c = 0u; c < kWalkVecs; ++c) dots[c] = vec4(0.0);
+    if (i < pc.size.x) {
+        float m = inv_diag[i];
+        for (uint c = 0u; c < kWalkVecs; ++c) {
+            uint at = i * kWalkVecs + c;
+            vec4 alpha = vec4(scalars[4u * c].value.y, scalars[4u * c + 1u].value.y, scalars[4u * c + 2u].value.y,
+                              scalars[4u * c + 3u].value.y);
+            x[at] += alpha * p[at];
+            vec4 ri = r[at] - alpha * ap[at];
+            r[at] = ri;
+            vec4 zi = m * ri;
+            z[at] = zi;
+            dots[c] = ri * zi;
+        }
+    }
+    WALK_STORE_PARTIALS(dots, partials);
+}

@@ -1,0 +1,241 @@
+// The graph decoder: the kNN graph and the random walker on the GPU against brute force and
+// Eigen, and the segmenter's joint solve on scenes whose right answer is plain.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "dataset/error.h"
+#include "dataset/up_axis.h"
+#include "engine/segment/knn_graph.h"
+#include "engine/segment/random_walker.h"
+#include "engine/segment/segmenter.h"
+#include "tests/gpu_fixture.h"
+#include "tests/reference/graph_ref.h"
+#include "tests/reference/test_scenes.h"
+
+using namespace pg;
+
+namespace {
+
+std::vector<uint32_t> all_of(const data::GaussianCloud& cloud) {
+    std::vector<uint32_t> d(cloud.size());
+    for (uint32_t i = 0; i < d.size(); ++i) d[i] = i;
+    return d;
+}
+
+}  // namespace
+
+TEST_CASE("graph: k nearest neighbours and affinities match a brute-force CPU search") {
+    auto scene = ref::random_scene(21, 3000, 1);
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, scene.cloud);
+    seg::KnnGraph graph(ctx);
+    seg::GraphOptions o;
+    auto domain = all_of(scene.cloud);
+    // A domain in another order than the scene: node i is Gaussian domain[i].
+    std::reverse(domain.begin(), domain.end());
+    graph.build(gpu, scene.cloud, domain, o);
+    REQUIRE(graph.nodes() == domain.size());
+    auto nodes = ref::graph_nodes(scene.cloud, domain);
+    // The GPU searches the 27 cells around a node: exact for neighbours within one cell side.
+    auto want = ref::knn_graph(nodes, o.k, graph.cell_side(), o.colour, o.normal, o.distance);
+    auto unbounded = ref::knn_graph(nodes, o.k, 1e9f, o.colour, o.normal, o.distance);
+    auto got = graph.neighbours();
+    auto weights = graph.weights();
+    const size_t k = o.k;
+    std::vector<uint8_t> exact(domain.size(), 0);
+    for (size_t i = 0; i < domain.size(); ++i) exact[i] = unbounded.distances[i * k + k - 1] <= graph.cell_side() * 0.999f;
+    size_t compared = 0, weight_checks = 0;
+    for (size_t i = 0; i < domain.size(); ++i) {
+        if (!exact[i]) continue;
+        ++compared;
+        for (size_t t = 0; t < k; ++t) {
+            CHECK(got[i * k + t] == want.neighbours[i * k + t]);
+            uint32_t j = want.neighbours[i * k + t];
+            // A weight depends on both nodes' spacing: compare where both neighbourhoods are exact.
+            if (j != 0xFFFFFFFFu && exact[j] && got[i * k + t] == j) {
+                CHECK(weights[i * k + t] == Approx(want.weights[i * k + t]).epsilon(1e-4).margin(1e-7));
+                ++weight_checks;
+            }
+        }
+    }
+    CHECK(compared > domain.size() / 4);
+    CHECK(weight_checks > domain.size());
+    // Every weight is an affinity in (0, 1].
+    for (float w : weights) CHECK((w >= 0.0f && w <= 1.0f));
+
+    CHECK_THROWS_AS([&] {
+        seg::GraphOptions bad;
+        bad.k = 17;
+        graph.build(gpu, scene.cloud, domain, bad);
+    }(), data::InputError);
+}
+
+TEST_CASE("random walker: the GPU's conjugate gradient matches Eigen's on the same systems") {
+    auto scene = ref::random_scene(22, 1500, 0);
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, scene.cloud);
+    seg::KnnGraph graph(ctx);
+    seg::GraphOptions go;
+    auto domain = all_of(scene.cloud);
+    graph.build(gpu, scene.cloud, domain, go);
+    ref::RefGraph rg;
+    rg.k = graph.k();
+    rg.neighbours = graph.neighbours();
+    rg.weights = graph.weights();
+    seg::RandomWalker walker(ctx);
+    seg::WalkOptions wo;
+    wo.tolerance = 1e-6f;
+    wo.max_iterations = 4000;
+    ref::Rng rng(5);
+    // 3 labels (one solve) and 19 (two solves of 16 columns); seeds, and unary terms on a third of the nodes.
+    for (uint32_t labels : {3u, 19u}) {
+        seg::WalkProblem pr;
+        pr.labels = labels;
+        pr.seed.assign(domain.size(), -1);
+        for (uint32_t l = 0; l < labels; ++l)
+            for (int s = 0; s < 3; ++s) pr.seed[rng.below(uint32_t(domain.size()))] = int32_t(l);
+        pr.gamma.assign(domain.size(), 0.0f);
+        pr.prior.assign(domain.size() * labels, 0.0f);
+        for (size_t i = 0; i < domain.size(); ++i)
+            if (rng.below(3) == 0) {
+                pr.gamma[i] = rng.uniform(0.0f, 2.0f);
+                pr.prior[i * labels + rng.below(labels)] = 1.0f;
+            }
+        auto got = walker.solve(graph, pr, wo);
+        auto want = ref::random_walk(rg, labels, pr.seed, pr.gamma, pr.prior);
+        REQUIRE(got.x.size() == want.size());
+        double worst = 0;
+        for (size_t i = 0; i < want.size(); ++i) worst = std::max(worst, std::abs(double(got.x[i]) - want[i]));
+        INFO("labels " << labels << ", iterations " << got.iterations << ", residual " << got.residual);
+        CHECK(worst < 2e-3);
+        CHECK(got.residual <= 1e-6);
+        // Warm start from the answer: nothing left to do.
+        pr.start = got.x;
+        auto again = walker.solve(graph, pr, wo);
+        CHECK(again.iterations < got.iterations / 4);
+    }
+    seg::WalkProblem bad;
+    bad.labels = 2;
+    bad.seed.assign(domain.size(), 2);  // a label out of range
+    CHECK_THROWS_AS(walker.solve(graph, bad), data::InputError);
+}
+
+namespace {
+
+// Three balls of distinct colours standing apart on a grey floor (y-down world, floor at y = 0).
+struct BallsScene {
+    data::GaussianCloud cloud;
+    std::vector<int32_t> ball;  // 1..3 per Gaussian, 0 for the floor
+    std::vector<data::Camera> cameras;
+};
+
+BallsScene balls_scene() {
+    BallsScene s;
+    ref::Rng rng(9);
+    const glm::vec3 colours[3] = {{0.9f, 0.1f, 0.1f}, {0.1f, 0.8f, 0.2f}, {0.1f, 0.2f, 0.9f}};
+    for (int b = 0; b < 3; ++b)
+        for (int i = 0; i < 900; ++i) {
+            glm::vec3 d(rng.normal(), rng.normal(), rng.normal());
+            d = glm::normalize(d) * 0.25f;
+            ref::add_gaussian(s.cloud, glm::vec3(float(b - 1), -0.26f, 0.0f) + d, glm::vec3(std::log(0.02f)),
+                              glm::vec4(1, 0, 0, 0), 4.0f, ref::dc_from_rgb(colours[b]));
+            s.ball.push_back(b + 1);
+        }
+    for (int i = 0; i < 5000; ++i) {
+        ref::add_gaussian(s.cloud, glm::vec3(rng.uniform(-2, 2), 0.0f, rng.uniform(-1, 1)),
+                          glm::vec3(std::log(0.03f), std::log(0.003f), std::log(0.03f)), glm::vec4(1, 0, 0, 0), 4.0f,
+                          ref::dc_from_rgb(glm::vec3(0.5f)));
+        s.ball.push_back(0);
+    }
+    s.cameras.push_back(ref::look_at_camera("front", {0, -1.5, -4}, {0, -0.25, 0}, {0, -1, 0}, 160, 120, 150, 150, 80, 60));
+    return s;
+}
+
+data::PromptClick point_click(glm::dvec3 p, bool positive = true) {
+    data::PromptClick c;
+    c.point = p;
+    c.positive = positive;
+    return c;
+}
+
+double iou(const std::vector<int32_t>& labels, int id, const std::vector<int32_t>& truth, int truth_id) {
+    size_t inter = 0, uni = 0;
+    for (size_t i = 0; i < labels.size(); ++i) {
+        bool a = labels[i] == id, b = truth[i] == truth_id;
+        inter += a && b;
+        uni += a || b;
+    }
+    return uni ? double(inter) / double(uni) : 0.0;
+}
+
+}  // namespace
+
+TEST_CASE("graph decoder: each object's click takes its own object, unclicked content stays unlabelled") {
+    auto s = balls_scene();
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, s.cloud);
+    seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras);  // no network
+    seg::SegmentOptions o;
+    o.up = {0, -1, 0};
+    o.scale = 0.5;  // ROI columns 1.25 wide around each click
+    o.graph = seg::GraphUse::Alone;
+    // Flat colours on flat colours: the scene's boundaries are its colours (at the default
+    // contrast a single click's walk leaks over the floor: ball IoU 0.6).
+    o.graph_options.colour = 10.0f;
+    data::Prompts p;
+    p.objects.push_back({"left", 1, {point_click({-1.0, -0.51, 0.0})}});
+    p.objects.push_back({"middle", 2, {point_click({0.0, -0.26, -0.25})}});
+    auto r = segmenter.segment(p, o);
+    REQUIRE(r.graph);
+    CHECK(r.failed() == 0);
+    CHECK(iou(r.labels, 1, s.ball, 1) > 0.9);
+    CHECK(iou(r.labels, 2, s.ball, 2) > 0.9);
+    size_t right = 0, floor_labelled = 0, floor = 0;
+    for (size_t i = 0; i < s.ball.size(); ++i) {
+        right += s.ball[i] == 3 && r.labels[i] != 0;
+        floor += s.ball[i] == 0;
+        floor_labelled += s.ball[i] == 0 && r.labels[i] != 0;
+    }
+    CHECK(right == 0);
+    CHECK(floor_labelled < floor / 20);
+    // The network decoders need a network.
+    o.graph = seg::GraphUse::Unary;
+    CHECK_THROWS_AS(segmenter.segment(p, o), data::InputError);
+
+    // A further click reuses the graph and starts from the last solution.
+    o.graph = seg::GraphUse::Alone;
+    p.objects[0].clicks.push_back(point_click({-1.25, -0.26, 0.0}));
+    auto r2 = segmenter.segment(p, o);
+    CHECK(r2.graph->iterations <= r.graph->iterations);
+    CHECK(iou(r2.labels, 1, s.ball, 1) > 0.9);
+}
+
+TEST_CASE("segmenter: an object whose clicks cannot be lifted fails alone, the others are segmented") {
+    auto s = balls_scene();
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, s.cloud);
+    seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras);
+    seg::SegmentOptions o;
+    o.up = {0, -1, 0};
+    o.scale = 0.5;
+    o.graph = seg::GraphUse::Alone;
+    o.graph_options.colour = 10.0f;
+    data::Prompts p;
+    p.objects.push_back({"off", 1, {{"front", 500.0, 10.0, std::nullopt, true}}});        // off the image
+    p.objects.push_back({"good", 2, {point_click({0.0, -0.26, -0.25})}});
+    p.objects.push_back({"sky", 3, {{"front", 80.0, 2.0, std::nullopt, true}}});          // an empty pixel
+    p.objects.push_back({"negative", 4, {point_click({1.0, -0.26, -0.25}, false)}});     // no positive click
+    auto r = segmenter.segment(p, o);
+    REQUIRE(r.objects.size() == 4);
+    CHECK(r.failed() == 3);
+    CHECK(r.objects[0].error.find("off the") != std::string::npos);
+    CHECK(r.objects[1].error.empty());
+    CHECK(r.objects[2].error.find("nearly empty") != std::string::npos);
+    CHECK(r.objects[3].error.find("no positive click") != std::string::npos);
+    CHECK(iou(r.labels, 2, s.ball, 2) > 0.9);
+    for (int id : {1, 3, 4}) CHECK(std::count(r.labels.begin(), r.labels.end(), id) == 0);
+    o.strict = true;
+    CHECK_THROWS_AS(segmenter.segment(p, o), data::InputError);
+}
