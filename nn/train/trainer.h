@@ -46,6 +46,7 @@ public:
     Trainer(Pool& pool, Ptv3Weights weights, TrainOptions options = {});
 
     const Ptv3Config& config() const { return weights_.config(); }
+    const TrainOptions& options() const { return options_; }
     // The parameters and running statistics, updated in place by step (share their buffers).
     const Ptv3Weights& weights() const { return weights_; }
     // Trainable tensors (not the running statistics), in state_dict order.
