@@ -17,6 +17,7 @@
 #include "dataset/error.h"
 #include "engine/vk/context.h"
 #include "nn/safetensors.h"
+#include "nn/train/batch.h"
 #include "nn/train/initial_weights.h"
 #include "nn/train/trainer.h"
 
@@ -50,14 +51,12 @@ void run_bench_train(const BenchTrainArgs& a) {
     nn::train::Trainer trainer(*pool, nn::Ptv3Weights::from_host(*pool, config, nn::train::initial_weights(config, a.seed),
                                                                  "initial"), to);
     // One batch of `clouds` crops; label 1 where the positive click weight is high (the first shape).
-    nn::Ptv3Input in;
-    std::vector<int32_t> labels;
+    nn::train::Batch batch;
     for (int b = 0; b < a.clouds; ++b) {
-        nn::Ptv3Input crop = synthetic_crop(a.points, config.in_channels, config.grid_size, a.seed + uint64_t(b));
-        for (size_t i = 0; i < crop.size(); ++i) labels.push_back(crop.feat[i * size_t(config.in_channels)] > 0.5f);
-        in.coord.insert(in.coord.end(), crop.coord.begin(), crop.coord.end());
-        in.feat.insert(in.feat.end(), crop.feat.begin(), crop.feat.end());
-        in.offsets.push_back(int64_t(in.size()));
+        const nn::Ptv3Input crop = synthetic_crop(a.points, config.in_channels, config.grid_size, a.seed + uint64_t(b));
+        std::vector<int32_t> labels(crop.size());
+        for (size_t i = 0; i < crop.size(); ++i) labels[i] = crop.feat[i * size_t(config.in_channels)] > 0.5f;
+        batch.add(crop.coord, crop.feat, labels);
     }
     uint64_t weights_bytes = 0;  // weights, running statistics and AdamW moments: live between steps
 
@@ -69,7 +68,7 @@ void run_bench_train(const BenchTrainArgs& a) {
         if (r > 0) weights_bytes = pool->live_bytes();  // the previous step's tensors are gone
         pool->reset_peak();
         auto t0 = std::chrono::steady_clock::now();
-        const nn::train::StepResult out = trainer.step(in, labels, 1e-4, 0.9);
+        const nn::train::StepResult out = trainer.step(batch.input, batch.labels, 1e-4, 0.9);
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         progress.step();
         peak = std::max(peak, pool->peak_bytes());

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "nn/ptv3/network.h"
 #include "nn/ptv3/weights.h"
 #include "nn/tensor.h"
 
@@ -65,6 +66,7 @@ public:
 private:
     Pool& pool_;
     Ptv3Weights weights_;
+    Ptv3Network network_;
     Tensor voxel_points_;  // I32 [voxels]
 };
 

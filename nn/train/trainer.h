@@ -1,8 +1,9 @@
 #pragma once
-// Training of PTv3 without autograd: a training-mode forward that keeps what each layer's
-// backward needs (BatchNorm on batch statistics, per-point drop path, no fused residuals),
-// then the layers' backward passes in reverse order, then AdamW. One recorded stream per step;
-// the host waits only where the structure needs a count (voxels, clusters) and at the end.
+// Training of PTv3 without autograd: the network's training forward (nn/ptv3/network.h; each
+// module keeps what its backward needs: BatchNorm on batch statistics, per-point drop path, no
+// fused residuals), the loss, the modules' backwards in reverse order, then AdamW. One recorded
+// stream per step; the host waits only where the structure needs a count (voxels, clusters) and
+// at the end.
 #include <cstdint>
 #include <map>
 #include <random>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "nn/ptv3/model.h"
+#include "nn/ptv3/network.h"
 #include "nn/ptv3/weights.h"
 #include "nn/train/optimizer.h"
 
@@ -44,6 +46,7 @@ public:
     Trainer(Pool& pool, Ptv3Weights weights, TrainOptions options = {});
 
     const Ptv3Config& config() const { return weights_.config(); }
+    const TrainOptions& options() const { return options_; }
     // The parameters and running statistics, updated in place by step (share their buffers).
     const Ptv3Weights& weights() const { return weights_; }
     // Trainable tensors (not the running statistics), in state_dict order.
@@ -71,6 +74,7 @@ private:
 
     Pool& pool_;
     Ptv3Weights weights_;
+    Ptv3Network network_;
     TrainOptions options_;
     std::vector<std::string> names_;
     AdamW adam_;

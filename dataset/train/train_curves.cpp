@@ -1,4 +1,4 @@
-#include "app/cli/train_curves.h"
+#include "dataset/train/train_curves.h"
 
 #include <fstream>
 #include <string>
@@ -8,7 +8,7 @@
 #include "dataset/chart.h"
 #include "dataset/image_io.h"
 
-namespace pg::app {
+namespace pg::data::train {
 
 namespace {
 
@@ -63,4 +63,4 @@ void write_train_curves(const std::filesystem::path& log, const std::filesystem:
     data::write_png8(png, img.width, img.height, img.channels, img.pixels);
 }
 
-}  // namespace pg::app
+}  // namespace pg::data::train
