@@ -163,6 +163,7 @@ void Viewer::draw_panels() {
             ImGui::Text("picture %dx%d", picture_.camera.width, picture_.camera.height);
             timing_row("splat render (GPU)", picture_.render_ms);
             if (picture_.mask) timing_row("2D mask (GPU)", picture_.mask_ms);
+            timing_row("overlay (GPU)", picture_.overlay_ms);
             timing_row("picture (wall)", picture_.wall_ms);
         }
         if (lift_ms_ > 0) timing_row("lift click", lift_ms_);

@@ -84,6 +84,8 @@ Viewer::~Viewer() {
     if (export_) export_->cancel = true;
     jobs_.reset();
     frames_.reset();
+    inbox_.drain();  // pictures waiting there hold device buffers
+    picture_ = {};
     job_engine_.reset();
     frame_engine_.reset();
     imgui_.reset();
@@ -251,10 +253,15 @@ void Viewer::frame_scene() {
 }
 
 int Viewer::object_at(double x, double y) const {
-    if (!picture_valid_ || picture_.object.empty() || x < 0 || y < 0 || x >= 1 || y >= 1) return 0;
+    if (!picture_valid_ || !picture_.object || x < 0 || y < 0 || x >= 1 || y >= 1) return 0;
     const int w = picture_.camera.width, h = picture_.camera.height;
-    const int id = picture_.object[size_t(int(y * h)) * w + int(x * w)];
-    return doc_.find(id) ? id : 0;
+    const size_t pixel = size_t(int(y * h)) * w + int(x * w);
+    // One pixel read when the pointer reaches it: pictures stay on the device.
+    if (picked_.picture != picture_.id || picked_.pixel != pixel) {
+        picked_ = {picture_.id, pixel, 0};
+        vk::download(*ctx_, *picture_.object, &picked_.object, sizeof picked_.object, pixel * sizeof picked_.object);
+    }
+    return doc_.find(picked_.object) ? picked_.object : 0;
 }
 
 void Viewer::click_at(double x, double y, bool positive) {
@@ -340,7 +347,8 @@ bool Viewer::set_decoder(const std::string& want) {
 
 void Viewer::save_picture(const std::string& png) const {
     if (!picture_valid_) throw std::runtime_error("no picture yet");
-    save_rgba(png, picture_.rgba, picture_.camera.width, picture_.camera.height);
+    const int w = picture_.camera.width, h = picture_.camera.height;
+    save_rgba(png, vk::download_vector<uint8_t>(*ctx_, *picture_.rgba, size_t(w) * h * 4), w, h);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -105,6 +105,11 @@ private:
     uint64_t request_id_ = 0;
     FramePicture picture_;
     bool picture_valid_ = false;
+    mutable struct {
+        uint64_t picture = ~0ull;
+        size_t pixel = 0;
+        int32_t object = 0;
+    } picked_;  // the object under the last pixel looked up
 
     // Segmentation.
     Document doc_;
