@@ -1,11 +1,30 @@
 #include "app/viewer/frame_engine.h"
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 
 namespace pg::viewer {
 
 FrameEngine::FrameEngine(vk::Context& ctx, const render::GpuScene& scene)
-    : ctx_(ctx), scene_(scene), renderer_(ctx), palette_(ctx, 16, vk::MemoryUse::Device, "viewer palette") {}
+    : ctx_(ctx),
+      scene_(scene),
+      renderer_(ctx),
+      cmd_(ctx),
+      passes_(ctx),
+      palette_(ctx, 16, vk::MemoryUse::Device, "viewer palette") {}
+
+std::shared_ptr<FrameEngine::Pixels> FrameEngine::free_pixels() {
+    for (auto& p : pixels_)
+        if (p.use_count() == 1) {
+            // Let go of on the main thread once the presenter's copy finished: see that first.
+            std::atomic_thread_fence(std::memory_order_acquire);
+            return p;
+        }
+    pixels_.push_back(std::make_shared<Pixels>(Pixels{vk::Buffer(ctx_, 4, vk::MemoryUse::Device, "viewer picture"),
+                                                      vk::Buffer(ctx_, 4, vk::MemoryUse::Device, "viewer objects")}));
+    return pixels_.back();
+}
 
 FramePicture FrameEngine::render(const FrameRequest& rq) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -15,7 +34,8 @@ FramePicture FrameEngine::render(const FrameRequest& rq) {
     const bool labelled = rq.labels && rq.labels->size() == scene_.size();
     if (labelled && rq.labels_version != labels_version_) {
         labels_ = vk::upload_vector(ctx_, *rq.labels, "viewer labels");
-        masks_ = std::make_unique<seg::MaskViews>(ctx_, scene_, *rq.labels);
+        // One upload for both: object ids are >= 0, so the style's int32 and the mask's uint32 agree.
+        masks_ = std::make_unique<seg::MaskViews>(ctx_, scene_, labels_);
         labels_version_ = rq.labels_version;
     }
     render::RenderStyle style;
@@ -32,36 +52,27 @@ FramePicture FrameEngine::render(const FrameRequest& rq) {
     renderer_.render(scene_, rq.camera, rq.settings, style.labels ? &style : nullptr);
     for (auto& t : renderer_.timings()) out.render_ms += t.ms;
     const int w = renderer_.width(), h = renderer_.height();
-    seg::ViewMask view;
-    view.width = w;
-    view.height = h;
-    view.rgba = vk::download_vector<float>(ctx_, renderer_.image_buffer(), size_t(w) * h * 4);
-    view.labels.assign(size_t(w) * h, 0);
-    if (labelled) {  // what is under each pixel, for picking objects by clicking them
-        const auto aux = vk::download_vector<glm::uvec4>(ctx_, renderer_.aux_buffer(), size_t(w) * h);
-        out.object.resize(aux.size());
-        for (size_t p = 0; p < aux.size(); ++p)
-            out.object[p] = aux[p].z < rq.labels->size() ? (*rq.labels)[aux[p].z] : 0;
-    }
+    const vk::Buffer* mask = nullptr;
     if (rq.mask && labelled && masks_) {
         seg::MaskViewsOptions mo;
         mo.render = rq.settings;
         const auto before = masks_->stage_ms();
-        view.labels = masks_->render(rq.camera, mo, false).labels;
+        // Hidden Gaussians leave the frame's tile lists; the mask, as exported, sees every Gaussian, so
+        // it then needs a render of its own. Tints alone bin the same: the frame's lists serve.
+        const bool hides = std::any_of(rq.palette.begin(), rq.palette.end(), [](const glm::vec4& p) { return p.a < 0; });
+        mask = hides ? &masks_->label_image(rq.camera, mo) : &masks_->label_image(renderer_, mo);
         for (auto& [name, ms] : masks_->stage_ms()) out.mask_ms += ms - (before.count(name) ? before.at(name) : 0.0);
-        for (auto& l : view.labels)  // hidden objects get no outline
-            if (l < rq.palette.size() && rq.palette[l].a < 0) l = 0;
         out.mask = true;
     }
-    const auto colour = [&](uint32_t l) {
-        return l < rq.palette.size() ? glm::vec3(rq.palette[l]) : seg::ViewMask::default_colour(l);
-    };
-    const std::vector<uint8_t> rgb = view.overlay(colour);
-    out.rgba.resize(size_t(w) * h * 4);
-    for (size_t p = 0; p < size_t(w) * h; ++p) {
-        for (int c = 0; c < 3; ++c) out.rgba[4 * p + c] = rgb[3 * p + c];
-        out.rgba[4 * p + 3] = 255;
-    }
+    auto pixels = free_pixels();
+    cmd_.begin_pass("overlay");
+    passes_.overlay(cmd_, renderer_.image_buffer(), mask, style.palette, style.palette_size, w, h, pixels->rgba);
+    if (labelled) passes_.objects(cmd_, renderer_, labels_, pixels->object);  // for picking objects by pointing at them
+    cmd_.end_pass();
+    cmd_.submit_and_wait();
+    out.overlay_ms = cmd_.total_ms();
+    out.rgba = std::shared_ptr<const vk::Buffer>(pixels, &pixels->rgba);
+    if (labelled) out.object = std::shared_ptr<const vk::Buffer>(pixels, &pixels->object);
     out.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return out;
 }

@@ -1,7 +1,8 @@
 #pragma once
 // The render thread's half of the viewer: renders the current view with the 3D labels as
 // tints (hidden objects culled) and, when asked, the refined 2D mask of every visible object
-// outlined on top, exactly as the exported overlays draw it.
+// outlined on top, exactly as the exported overlays draw it. The picture stays on the device:
+// the presenter copies it into the window's image.
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "dataset/camera.h"
 #include "engine/render/renderer.h"
 #include "engine/segment/mask_views.h"
+#include "engine/segment/picture_passes.h"
 
 namespace pg::viewer {
 
@@ -28,10 +30,12 @@ struct FrameRequest {
 struct FramePicture {
     uint64_t id = 0;
     data::Camera camera;        // what was rendered (its size is the picture's)
-    std::vector<uint8_t> rgba;  // RGBA8, row-major
-    std::vector<int32_t> object;  // per pixel: the object whose Gaussian made it opaque, 0 for none
+    // On the device, row-major; the engine reuses them once nobody holds them.
+    std::shared_ptr<const vk::Buffer> rgba;    // RGBA8, red in the low byte
+    std::shared_ptr<const vk::Buffer> object;  // int32 per pixel: the object whose Gaussian made it opaque,
+                                               // 0 for none; null while nothing is labelled
     bool mask = false;
-    double render_ms = 0, mask_ms = 0;  // GPU time of the splat render and of the mask passes
+    double render_ms = 0, mask_ms = 0, overlay_ms = 0;  // GPU time of the splat render, mask and overlay passes
     double wall_ms = 0;
 };
 
@@ -41,9 +45,17 @@ public:
     FramePicture render(const FrameRequest& request);
 
 private:
+    struct Pixels {
+        vk::Buffer rgba, object;
+    };
+    std::shared_ptr<Pixels> free_pixels();
+
     vk::Context& ctx_;
     const render::GpuScene& scene_;
     render::Renderer renderer_;
+    vk::CommandList cmd_;
+    seg::PicturePasses passes_;
+    std::vector<std::shared_ptr<Pixels>> pixels_;
     vk::Buffer labels_, palette_;
     std::vector<glm::vec4> palette_uploaded_;  // what palette_ holds: an unchanged palette is not re-sent
     uint64_t labels_version_ = ~0ull;

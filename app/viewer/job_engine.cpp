@@ -41,15 +41,8 @@ seg::Segmenter& JobEngine::segmenter(const std::string& decoder) {
     return *s;
 }
 
-seg::ObjectResult JobEngine::segment(const data::ObjectPrompt& object, size_t k, const std::string& decoder,
-                                     std::map<std::string, double>& stage_ms) {
-    data::Prompts one;
-    one.objects.push_back(object);
-    seg::SegmentOptions o = scene_.options;
-    o.seed = scene_.options.seed + k;  // `segment` partitions object k with seed + k
-    auto result = segmenter(decoder).segment(one, o);
-    stage_ms = result.stage_ms;
-    return std::move(result.objects.front());
+seg::ObjectResult JobEngine::segment(const SegmentJob& job, std::map<std::string, double>& stage_ms) {
+    return segment_job(segmenter(job.decoder), job, scene_.options, stage_ms);
 }
 
 void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::atomic<size_t>& total,

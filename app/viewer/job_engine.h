@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/viewer/document.h"
+#include "app/viewer/session.h"
 #include "dataset/camera.h"
 #include "dataset/gaussian_cloud.h"
 #include "engine/render/renderer.h"
@@ -41,9 +42,8 @@ public:
 
     // A click at pixel (u, v) of `camera` -> where it lands; InputError when it hits nothing.
     seg::Anchor lift(const data::Camera& camera, double u, double v, bool positive);
-    // One object's claims, as `segment` computes them for the object at index `k` of prompts.json.
-    seg::ObjectResult segment(const data::ObjectPrompt& object, size_t k, const std::string& decoder,
-                              std::map<std::string, double>& stage_ms);
+    // One object's claims, as `segment` computes them for that object of prompts.json.
+    seg::ObjectResult segment(const SegmentJob& job, std::map<std::string, double>& stage_ms);
     // Writes the chosen outputs; progress counts mask views.
     void write(const ExportRequest& request, std::atomic<size_t>& done, std::atomic<size_t>& total,
                const std::atomic<bool>& cancel);

@@ -50,13 +50,14 @@ void Viewer::draw_panels() {
         if (ImGui::ArrowButton("next", ImGuiDir_Right)) snap(snapped_ < 0 ? 0 : (snapped_ + 1) % n);
         ImGui::SameLine();
         if (ImGui::Button("Frame scene (F)")) frame_scene();
-        ImGui::Checkbox("mask overlay", &show_mask_);
+        bool mask = show_mask_, tints = show_tints_, only = isolate_;
+        if (ImGui::Checkbox("mask overlay", &mask)) show_mask(mask);
         ImGui::SameLine();
-        ImGui::Checkbox("3D tints", &show_tints_);
-        ImGui::Checkbox("only the selected object (I)", &isolate_);
+        if (ImGui::Checkbox("3D tints", &tints)) show_tints(tints);
+        if (ImGui::Checkbox("only the selected object (I)", &only)) isolate(only);
         float scale = float(render_scale_);
         ImGui::SetNextItemWidth(200);
-        if (ImGui::SliderFloat("render scale", &scale, 0.25f, 1.0f, "%.2f")) render_scale_ = scale;
+        if (ImGui::SliderFloat("render scale", &scale, 0.25f, 1.0f, "%.2f")) set_render_scale(scale);
         ImGui::TextDisabled("drag: orbit, right drag: pan, wheel: zoom\nWASD QE: fly, [ ]: cameras\n"
                             "click: positive, ctrl/right click: negative\nalt+click: select the object under it");
     }
@@ -66,7 +67,7 @@ void Viewer::draw_panels() {
             ImGui::SetNextItemWidth(200);
             if (ImGui::BeginCombo("decoder", short_name(decoder_).c_str())) {
                 for (auto& d : decoders_)
-                    if (ImGui::Selectable(short_name(d).c_str(), d == decoder_)) decoder_ = d;
+                    if (ImGui::Selectable(short_name(d).c_str(), d == decoder_)) set_decoder(d);
                 ImGui::EndCombo();
             }
         } else {
@@ -89,10 +90,9 @@ void Viewer::draw_panels() {
             ImGui::ColorButton("##c", ImVec4(o.colour.r, o.colour.g, o.colour.b, 1), ImGuiColorEditFlags_NoTooltip,
                                ImVec2(14, 14));
             ImGui::SameLine();
-            const auto count = labelled_count_.find(o.id);
             char label[256];
             std::snprintf(label, sizeof label, "%s%s  (%zu)", o.name.c_str(), o.hidden ? " [hidden]" : "",
-                          count == labelled_count_.end() ? size_t(0) : count->second);
+                          session_.labelled(o.id));
             if (ImGui::Selectable(label, o.id == doc_.state().selected)) doc_.select(o.id);
             ImGui::PopID();
         }
@@ -123,9 +123,8 @@ void Viewer::draw_panels() {
             size_t pos = 0, neg = 0;
             for (auto& c : sel->clicks) (c.prompt.positive ? pos : neg)++;
             ImGui::TextDisabled("%zu positive, %zu negative clicks", pos, neg);
-            auto it = cache_.find(id);
-            if (it != cache_.end() && !it->second.error.empty())
-                ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", it->second.error.c_str());
+            if (const std::string& error = session_.error(id); !error.empty())
+                ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error.c_str());
         }
     }
 
@@ -135,7 +134,7 @@ void Viewer::draw_panels() {
         ImGui::SetNextItemWidth(250);
         if (ImGui::InputText("folder", panel_.folder, sizeof panel_.folder)) export_folder_ = panel_.folder;
         const bool running = export_ && export_->running;
-        ImGui::BeginDisabled(running || !labels_);
+        ImGui::BeginDisabled(running || !session_.labels());
         if (ImGui::Button("Everything")) export_to(export_folder_, true, true, true, true);
         ImGui::SameLine();
         if (ImGui::Button("Scene PLY")) export_to(export_folder_, true, false, false, false);
@@ -164,6 +163,7 @@ void Viewer::draw_panels() {
             ImGui::Text("picture %dx%d", picture_.camera.width, picture_.camera.height);
             timing_row("splat render (GPU)", picture_.render_ms);
             if (picture_.mask) timing_row("2D mask (GPU)", picture_.mask_ms);
+            timing_row("overlay (GPU)", picture_.overlay_ms);
             timing_row("picture (wall)", picture_.wall_ms);
         }
         if (lift_ms_ > 0) timing_row("lift click", lift_ms_);
@@ -171,7 +171,7 @@ void Viewer::draw_panels() {
             timing_row("segment object (wall)", segment_wall_ms_);
             for (auto& [name, ms] : segment_ms_) timing_row(("  " + name).c_str(), ms);
         }
-        const bool working = jobs_->busy() || segment_in_flight_;
+        const bool working = jobs_->busy() || session_.in_flight();
         if (working) ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "working...");
     }
     if (!status_.empty()) {

@@ -1,7 +1,6 @@
 #include "app/viewer/presenter.h"
 
 #include <algorithm>
-#include <cstring>
 #include <mutex>
 #include <stdexcept>
 
@@ -107,7 +106,6 @@ Presenter::Presenter(vk::Context& ctx, VkSurfaceKHR surface, int width, int heig
     PG_VK(vkCreateSemaphore(device_, &sci, nullptr, &acquired_));
     PG_VK(vkCreateSemaphore(device_, &sci, nullptr, &rendered_));
 
-    staging_ = vk::Buffer(ctx, 4, vk::MemoryUse::Upload, "viewer picture staging");
     readback_ = vk::Buffer(ctx, 4, vk::MemoryUse::Readback, "viewer screenshot");
     create_swapchain(width, height);
 }
@@ -232,10 +230,8 @@ void Presenter::destroy_target() {
     target_memory_ = VK_NULL_HANDLE;
 }
 
-void Presenter::set_picture(const std::vector<uint8_t>& rgba, int width, int height) {
-    if (width <= 0 || height <= 0 || rgba.size() != size_t(width) * height * 4) return;
-    staging_.ensure(rgba.size());
-    std::memcpy(staging_.data(), rgba.data(), rgba.size());
+void Presenter::set_picture(std::shared_ptr<const vk::Buffer> rgba, int width, int height) {
+    if (width <= 0 || height <= 0 || !rgba || rgba->size() < uint64_t(width) * height * 4) return;
     if (width != picture_width_ || height != picture_height_) {
         // The previous frame finished (present waits for its fence), so the old image is free.
         if (picture_) vkDestroyImage(device_, picture_, nullptr);
@@ -246,7 +242,7 @@ void Presenter::set_picture(const std::vector<uint8_t>& rgba, int width, int hei
         picture_height_ = height;
         picture_ready_ = false;
     }
-    picture_pending_ = true;
+    picture_pending_ = std::move(rgba);
 }
 
 Rect Presenter::picture_rect() const {
@@ -301,17 +297,21 @@ bool Presenter::present_impl(int width, int height, UiRecorder& ui, bool capture
 
     VkCommandBuffer cmd = begin_once();
     if (picture_pending_) {
+        VkMemoryBarrier written{VK_STRUCTURE_TYPE_MEMORY_BARRIER};  // by the overlay pass, in an earlier submission
+        written.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+        written.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &written, 0,
+                             nullptr, 0, nullptr);
         image_barrier(cmd, picture_, picture_ready_ ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_ACCESS_TRANSFER_READ_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
         VkBufferImageCopy copy{};
         copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         copy.imageExtent = {uint32_t(picture_width_), uint32_t(picture_height_), 1};
-        vkCmdCopyBufferToImage(cmd, staging_.handle(), picture_, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+        vkCmdCopyBufferToImage(cmd, picture_pending_->handle(), picture_, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
         image_barrier(cmd, picture_, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                       VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                       VK_PIPELINE_STAGE_TRANSFER_BIT);
-        picture_pending_ = false;
         picture_ready_ = true;
     }
     image_barrier(cmd, target_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
@@ -384,6 +384,7 @@ bool Presenter::present_impl(int width, int height, UiRecorder& ui, bool capture
     }
     PG_VK(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX));
     PG_VK(vkResetFences(device_, 1, &fence_));
+    picture_pending_.reset();  // copied: the frame engine may write it again
     if (pr == VK_ERROR_OUT_OF_DATE_KHR || pr == VK_SUBOPTIMAL_KHR) swap_width_ = 0;
     else PG_VK(pr);
     if (capture) {

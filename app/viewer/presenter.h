@@ -1,9 +1,10 @@
 #pragma once
-// Puts a frame on the window: the engine's picture (RGBA8, any size) is blitted into a window-
-// sized target image with letterboxing, Dear ImGui draws over it, and the target is blitted to
+// Puts a frame on the window: the engine's picture (RGBA8 in a device buffer, any size) is
+// copied into an image and blitted into a window-sized target image with letterboxing, Dear ImGui draws over it, and the target is blitted to
 // the swapchain. The target, not the swapchain image, is what screenshots read, so they do not
 // depend on the window system's formats.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <vulkan/vulkan.h>
@@ -27,8 +28,9 @@ public:
     VkRenderPass render_pass() const { return render_pass_; }
     uint32_t image_count() const { return uint32_t(swap_images_.size()); }
 
-    // The next picture to show; kept until replaced.
-    void set_picture(const std::vector<uint8_t>& rgba, int width, int height);
+    // The next picture to show (written by a compute pass on this queue); the image keeps it
+    // until replaced, the buffer is let go once copied.
+    void set_picture(std::shared_ptr<const vk::Buffer> rgba, int width, int height);
     // Where the picture goes (window pixels); it keeps its aspect ratio inside.
     void set_viewport(Rect r) { viewport_ = r; }
     Rect picture_rect() const;  // the letterboxed rectangle the picture occupies
@@ -86,8 +88,9 @@ private:
     VkImage picture_ = VK_NULL_HANDLE;
     VkDeviceMemory picture_memory_ = VK_NULL_HANDLE;
     int picture_width_ = 0, picture_height_ = 0;
-    bool picture_pending_ = false, picture_ready_ = false;
-    vk::Buffer staging_, readback_;
+    std::shared_ptr<const vk::Buffer> picture_pending_;
+    bool picture_ready_ = false;
+    vk::Buffer readback_;
     std::vector<uint8_t> captured_;
     Rect viewport_;
 

@@ -7,10 +7,10 @@
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
-#include <nlohmann/json.hpp>
 
 #include "app/common/ptv3_decoder.h"
 #include "app/common/up_arg.h"
+#include "app/viewer/script_runner.h"
 #include "dataset/camera_io.h"
 #include "dataset/error.h"
 #include "dataset/image_io.h"
@@ -57,8 +57,9 @@ void save_rgba(const fs::path& path, const std::vector<uint8_t>& rgba, int w, in
 }  // namespace
 
 Viewer::Viewer(const ViewerOptions& options) : options_(options) {
-    if (!options.script.empty()) script_ = read_script(options.script);
-    scripted_ = !options.script.empty() || !options.screenshot.empty();
+    if (!options.script.empty() || !options.screenshot.empty())
+        script_ = std::make_unique<ScriptRunner>(options.script.empty() ? std::vector<Action>{} : read_script(options.script),
+                                                 options.screenshot);
     load(options);
     window_ = std::make_unique<Window>("PointGauss - " + fs::path(options.scene).filename().string(), options.width,
                                        options.height);
@@ -76,13 +77,15 @@ Viewer::Viewer(const ViewerOptions& options) : options_(options) {
     if (!options.prompts.empty()) load_prompts(options.prompts);
     render_scale_ = options.render_scale > 0 ? options.render_scale
                                              : (ctx_->info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 0.5 : 1.0);
-    if (scripted_) render_scale_ = options.render_scale > 0 ? options.render_scale : 1.0;
+    if (script_) render_scale_ = options.render_scale > 0 ? options.render_scale : 1.0;
 }
 
 Viewer::~Viewer() {
     if (export_) export_->cancel = true;
     jobs_.reset();
     frames_.reset();
+    inbox_.drain();  // pictures waiting there hold device buffers
+    picture_ = {};
     job_engine_.reset();
     frame_engine_.reset();
     imgui_.reset();
@@ -121,6 +124,7 @@ void Viewer::load(const ViewerOptions& o) {
     const auto& c0 = scene_.cameras.front();
     fov_y_ = glm::degrees(2.0 * std::atan(0.5 * c0.height / c0.fy));
     orbit_ = OrbitCamera(scene_.options.up);
+    session_ = Session(scene_.cloud.size());
     frame_scene();
     snapped_ = 0;
 
@@ -232,6 +236,12 @@ void Viewer::zoom(double factor) {
     last_motion_ = Clock::now();
 }
 
+void Viewer::fly(glm::dvec3 step) {
+    leave_snap();
+    orbit_.fly(step);
+    last_motion_ = Clock::now();
+}
+
 void Viewer::frame_scene() {
     const double d = radius_ / std::tan(glm::radians(0.5 * fov_y_)) * 1.1;
     const glm::dvec3 up = scene_.options.up;
@@ -243,10 +253,15 @@ void Viewer::frame_scene() {
 }
 
 int Viewer::object_at(double x, double y) const {
-    if (!picture_valid_ || picture_.object.empty() || x < 0 || y < 0 || x >= 1 || y >= 1) return 0;
+    if (!picture_valid_ || !picture_.object || x < 0 || y < 0 || x >= 1 || y >= 1) return 0;
     const int w = picture_.camera.width, h = picture_.camera.height;
-    const int id = picture_.object[size_t(int(y * h)) * w + int(x * w)];
-    return doc_.find(id) ? id : 0;
+    const size_t pixel = size_t(int(y * h)) * w + int(x * w);
+    // One pixel read when the pointer reaches it: pictures stay on the device.
+    if (picked_.picture != picture_.id || picked_.pixel != pixel) {
+        picked_ = {picture_.id, pixel, 0};
+        vk::download(*ctx_, *picture_.object, &picked_.object, sizeof picked_.object, pixel * sizeof picked_.object);
+    }
+    return doc_.find(picked_.object) ? picked_.object : 0;
 }
 
 void Viewer::click_at(double x, double y, bool positive) {
@@ -288,7 +303,7 @@ void Viewer::export_to(const std::string& folder, bool scene, bool objects, bool
         status("an export is already running", true);
         return;
     }
-    if (!labels_) {
+    if (!session_.labels()) {
         status("nothing to export yet: click an object first", true);
         return;
     }
@@ -298,7 +313,7 @@ void Viewer::export_to(const std::string& folder, bool scene, bool objects, bool
     rq.objects = objects;
     rq.masks = masks;
     rq.prompts = prompts;
-    rq.labels = labels_;
+    rq.labels = session_.labels();
     rq.document = doc_.state();
     rq.prompts_json = doc_.prompts();
     rq.decoder = decoder_;
@@ -322,84 +337,47 @@ void Viewer::export_to(const std::string& folder, bool scene, bool objects, bool
     });
 }
 
+bool Viewer::set_decoder(const std::string& want) {
+    auto it = std::find_if(decoders_.begin(), decoders_.end(),
+                           [&](auto& d) { return d == want || (want != "ground-truth" && want == "model"); });
+    if (it == decoders_.end()) return false;
+    decoder_ = *it;
+    return true;
+}
+
+void Viewer::save_picture(const std::string& png) const {
+    if (!picture_valid_) throw std::runtime_error("no picture yet");
+    const int w = picture_.camera.width, h = picture_.camera.height;
+    save_rgba(png, vk::download_vector<uint8_t>(*ctx_, *picture_.rgba, size_t(w) * h * 4), w, h);
+}
+
 // ---------------------------------------------------------------------------------------------
-// Segmentation: one object per job, cached by what determines its result.
-
-const Viewer::Wanted& Viewer::wanted() const {
-    if (wanted_.version == doc_.version() && wanted_.decoder == decoder_) return wanted_;
-    wanted_.version = doc_.version();
-    wanted_.decoder = decoder_;
-    wanted_.prompts = doc_.prompts();
-    wanted_.signatures.clear();
-    for (size_t k = 0; k < wanted_.prompts.objects.size(); ++k) {
-        nlohmann::json j;
-        j["k"] = k;
-        j["decoder"] = decoder_;
-        for (auto& c : wanted_.prompts.objects[k].clicks) {
-            nlohmann::json jc{{"positive", c.positive}};
-            if (c.point) jc["point"] = {c.point->x, c.point->y, c.point->z};
-            else jc["view"] = {c.view, c.u, c.v};
-            j["clicks"].push_back(jc);
-        }
-        wanted_.signatures.push_back(j.dump());
-    }
-    return wanted_;
-}
-
-bool Viewer::current(size_t k) const {
-    const Wanted& w = wanted();
-    auto it = cache_.find(w.prompts.objects[k].id);
-    return it != cache_.end() && it->second.signature == w.signatures[k];
-}
+// Segmentation: one object per job, the session decides which.
 
 void Viewer::update_segmentation() {
-    const Wanted& w = wanted();
-    const auto& prompts = w.prompts;
-    if (!segment_in_flight_) {
-        for (size_t k = 0; k < prompts.objects.size(); ++k) {
-            if (current(k)) continue;
-            const auto& op = prompts.objects[k];
-            const std::string sig = w.signatures[k];
-            segment_in_flight_ = true;
-            const std::string decoder = decoder_;
-            jobs_->post([this, op, k, sig, decoder] {
-                Cached c;
-                c.signature = sig;
-                std::map<std::string, double> ms;
-                const auto t0 = Clock::now();
-                try {
-                    c.result = job_engine_->segment(op, k, decoder, ms);
-                } catch (const std::exception& e) {
-                    c.error = e.what();
-                }
-                const double wall = ms_between(t0, Clock::now());
-                inbox_.post([this, id = op.id, c, ms, wall] {
-                    segment_in_flight_ = false;
-                    cache_[id] = c;
-                    if (!c.error.empty()) status("segmentation failed: " + c.error, true);
-                    else segment_ms_ = ms, segment_wall_ms_ = wall;
-                });
-            });
-            break;
+    session_.sync(doc_, decoder_);
+    auto job = session_.next_job();
+    if (!job) return;
+    jobs_->post([this, job = *job] {
+        SegmentOutcome outcome;
+        std::map<std::string, double> ms;
+        const auto t0 = Clock::now();
+        try {
+            outcome.result = job_engine_->segment(job, ms);
+        } catch (const std::exception& e) {
+            outcome.error = e.what();
         }
-    }
-    // Labels from every object whose cached result is current (ties go to the earlier object),
-    // assembled only when that set changes.
-    std::string key;
-    for (size_t k = 0; k < prompts.objects.size(); ++k)
-        if (current(k) && cache_.at(prompts.objects[k].id).result)
-            key += std::to_string(prompts.objects[k].id) + ":" + w.signatures[k] + ";";
-    if (key == assembled_key_) return;
-    assembled_key_ = key;
-    seg::SegmentResult result;
-    for (size_t k = 0; k < prompts.objects.size(); ++k)
-        if (current(k) && cache_.at(prompts.objects[k].id).result)
-            result.objects.push_back(*cache_.at(prompts.objects[k].id).result);
-    result.assemble(scene_.cloud.size());
-    labelled_count_.clear();
-    for (auto& o : result.objects) labelled_count_[o.id] = o.labelled;
-    labels_ = result.objects.empty() ? nullptr : std::make_shared<const std::vector<int32_t>>(std::move(result.labels));
-    ++labels_version_;
+        const double wall = ms_between(t0, Clock::now());
+        inbox_.post([this, job, outcome, ms, wall] {
+            session_.store(job, outcome);
+            if (!outcome.error.empty()) status("segmentation failed: " + outcome.error, true);
+            else segment_ms_ = ms, segment_wall_ms_ = wall;
+        });
+    });
+}
+
+bool Viewer::idle() const {
+    return !frames_->busy() && !jobs_->busy() && session_.settled() && picture_valid_ && picture_.id == request_id_;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -431,17 +409,17 @@ FrameRequest Viewer::frame_request(bool still) const {
     } else {
         rq.camera = orbit_.camera(vw, vh, fov_y_);
     }
-    rq.labels = labels_;
-    rq.labels_version = labels_version_;
+    rq.labels = session_.labels();
+    rq.labels_version = session_.labels_version();
     rq.palette = palette();
-    rq.mask = still && show_mask_ && labels_;
+    rq.mask = still && show_mask_ && rq.labels;
     return rq;
 }
 
 void Viewer::request_frame() {
     if (viewport_.width <= 0 || viewport_.height <= 0) return;
     // While the camera moves, frames skip the mask passes; they come back once it rests.
-    const bool still = scripted_ || ms_between(last_motion_, Clock::now()) > 250;
+    const bool still = script_ || ms_between(last_motion_, Clock::now()) > 250;
     FrameRequest rq = frame_request(still);
     const auto& c = rq.camera;
     char key[256];
@@ -470,220 +448,15 @@ void Viewer::request_frame() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Input: SuperSplat's habits where they exist (left drag orbits, right or middle drag pans,
-// wheel zooms, WASD/QE fly; a click without a drag is a prompt, Ctrl or the right button
-// makes it negative).
-
-void Viewer::handle_input() {
-    ImGuiIO& io = ImGui::GetIO();
-    const float sx = io.DisplayFramebufferScale.x, sy = io.DisplayFramebufferScale.y;
-    const Rect r = presenter_->picture_rect();
-    auto picture_fraction = [&](ImVec2 m, double& x, double& y) {
-        x = (m.x * sx - r.x) / std::max(1, r.width);
-        y = (m.y * sy - r.y) / std::max(1, r.height);
-        return x >= 0 && y >= 0 && x < 1 && y < 1;
-    };
-    if (!io.WantCaptureMouse) {
-        const ImVec2 m = io.MousePos;
-        const bool in_view = m.x * sx >= viewport_.x && m.x * sx < viewport_.x + viewport_.width;
-        for (int b : {0, 1}) {
-            if (!ImGui::IsMouseReleased(b) || !in_view) continue;
-            const ImVec2 drag = io.MouseDragMaxDistanceSqr[b] > 16.0f ? ImVec2(1, 1) : ImVec2(0, 0);
-            double x, y;
-            if (drag.x != 0 || !picture_fraction(m, x, y)) continue;
-            if (io.KeyAlt) doc_.select(object_at(x, y));  // Alt+click picks an object, as in the list
-            else click_at(x, y, b == 0 && !io.KeyCtrl);
-        }
-        double hx, hy;
-        if (in_view && picture_fraction(m, hx, hy) && !ImGui::IsAnyMouseDown())
-            if (const Object* o = doc_.find(object_at(hx, hy))) ImGui::SetTooltip("%s", o->name.c_str());
-        if (in_view && ImGui::IsMouseDragging(0) && !io.KeyShift) {
-            orbit(-0.3 * io.MouseDelta.x, 0.3 * io.MouseDelta.y);
-        } else if (in_view && (ImGui::IsMouseDragging(1) || ImGui::IsMouseDragging(2) ||
-                               (ImGui::IsMouseDragging(0) && io.KeyShift))) {
-            const double per_px = 2.0 * std::tan(glm::radians(0.5 * fov_y_)) / std::max(1, viewport_.height);
-            if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0)
-                pan(-io.MouseDelta.x * sx * per_px, -io.MouseDelta.y * sy * per_px);
-        }
-        if (in_view && io.MouseWheel != 0) zoom(std::pow(0.88, io.MouseWheel));
-    }
-    const auto presses = window_->take_key_presses();
-    if (io.WantCaptureKeyboard) return;
-    const double step = std::min(0.1, double(io.DeltaTime)) * 0.8;
-    glm::dvec3 fly{0.0};
-    if (ImGui::IsKeyDown(GLFW_KEY_W)) fly.z += step;
-    if (ImGui::IsKeyDown(GLFW_KEY_S)) fly.z -= step;
-    if (ImGui::IsKeyDown(GLFW_KEY_D)) fly.x += step;
-    if (ImGui::IsKeyDown(GLFW_KEY_A)) fly.x -= step;
-    if (ImGui::IsKeyDown(GLFW_KEY_E)) fly.y -= step;
-    if (ImGui::IsKeyDown(GLFW_KEY_Q)) fly.y += step;
-    if (!io.KeyCtrl && fly != glm::dvec3(0.0)) {
-        leave_snap();
-        orbit_.fly(fly);
-        last_motion_ = Clock::now();
-    }
-    const int cams = int(scene_.cameras.size());
-    for (const auto& [key, mods] : presses) {
-        const bool ctrl = mods & GLFW_MOD_CONTROL, shift = mods & GLFW_MOD_SHIFT;
-        const int selected = doc_.state().selected;
-        switch (key) {
-            case GLFW_KEY_RIGHT_BRACKET:
-            case GLFW_KEY_PAGE_DOWN: snap(snapped_ < 0 ? 0 : (snapped_ + 1) % cams); break;
-            case GLFW_KEY_LEFT_BRACKET:
-            case GLFW_KEY_PAGE_UP: snap(snapped_ <= 0 ? cams - 1 : snapped_ - 1); break;
-            case GLFW_KEY_F: frame_scene(); break;
-            case GLFW_KEY_Z:
-                if (ctrl) shift ? doc_.redo() : doc_.undo();
-                break;
-            case GLFW_KEY_Y:
-                if (ctrl) doc_.redo();
-                break;
-            case GLFW_KEY_N:
-                if (!ctrl) doc_.add_object();
-                break;
-            case GLFW_KEY_DELETE:
-                if (doc_.selected()) doc_.remove(selected);
-                break;
-            case GLFW_KEY_H:
-                if (!ctrl && doc_.selected()) doc_.set_hidden(selected, !doc_.selected()->hidden);
-                break;
-            case GLFW_KEY_I:
-                if (!ctrl) isolate_ = !isolate_;
-                break;
-            default: break;
-        }
-    }
-}
-
-void Viewer::draw_markers() {
-    if (!picture_valid_) return;
-    ImGuiIO& io = ImGui::GetIO();
-    const Rect r = presenter_->picture_rect();
-    const data::Camera& c = picture_.camera;
-    const glm::dmat4 view = c.world_to_camera();
-    ImDrawList* dl = ImGui::GetBackgroundDrawList();
-    for (const auto& o : doc_.state().objects) {
-        if (o.hidden || (isolate_ && o.id != doc_.state().selected)) continue;
-        const bool selected = o.id == doc_.state().selected;
-        for (const auto& click : o.clicks) {
-            const glm::dvec4 p = view * glm::dvec4(click.anchor, 1.0);
-            if (p.z <= 1e-6) continue;
-            const double u = (c.fx * p.x / p.z + c.cx) / c.width, v = (c.fy * p.y / p.z + c.cy) / c.height;
-            if (u < 0 || v < 0 || u > 1 || v > 1) continue;
-            const ImVec2 at((r.x + u * r.width) / io.DisplayFramebufferScale.x,
-                            (r.y + v * r.height) / io.DisplayFramebufferScale.y);
-            const float radius = selected ? 6.0f : 4.0f;
-            const ImU32 fill = click.prompt.positive ? IM_COL32(40, 200, 90, 255) : IM_COL32(230, 50, 50, 255);
-            dl->AddCircleFilled(at, radius, fill);
-            dl->AddCircle(at, radius + 1.0f, IM_COL32(255, 255, 255, selected ? 255 : 140), 0, 1.5f);
-            const float h = radius * 0.6f;
-            dl->AddLine(ImVec2(at.x - h, at.y), ImVec2(at.x + h, at.y), IM_COL32(255, 255, 255, 255), 1.5f);
-            if (click.prompt.positive)
-                dl->AddLine(ImVec2(at.x, at.y - h), ImVec2(at.x, at.y + h), IM_COL32(255, 255, 255, 255), 1.5f);
-        }
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Scripts
-
-bool Viewer::idle(bool workers_idle) const {
-    if (!workers_idle || segment_in_flight_) return false;
-    for (size_t k = 0; k < wanted().prompts.objects.size(); ++k)
-        if (!current(k)) return false;
-    return picture_valid_ && picture_.id == request_id_;
-}
-
-void Viewer::run_action(const Action& a) {
-    const auto& v = a.value;
-    const std::string& k = a.kind;
-    auto fail = [&](const std::string& why) { throw data::InputError(a.where, why); };
-    if (k == "snap") {
-        int index = -1;
-        if (v.is_string()) {
-            for (size_t i = 0; i < scene_.cameras.size(); ++i)
-                if (scene_.cameras[i].name == v.get<std::string>()) index = int(i);
-        } else {
-            index = v.get<int>();
-        }
-        if (index < 0 || index >= int(scene_.cameras.size())) fail("no camera " + v.dump());
-        snap(index);
-    } else if (k == "orbit") {
-        orbit(v[0].get<double>(), v[1].get<double>());
-    } else if (k == "pan") {
-        pan(v[0].get<double>(), v[1].get<double>());
-    } else if (k == "zoom") {
-        zoom(v.get<double>());
-    } else if (k == "frame") {
-        frame_scene();
-    } else if (k == "new_object") {
-        doc_.add_object(v.get<std::string>());
-    } else if (k == "click" || k == "click_pixel") {
-        double x = v[0].get<double>(), y = v[1].get<double>();
-        if (k == "click_pixel") {
-            if (snapped_ < 0) fail("'click_pixel' needs a dataset camera: snap first");
-            const auto& c = scene_.cameras[size_t(snapped_)];
-            x /= c.width;
-            y /= c.height;
-        }
-        if (x < 0 || y < 0 || x >= 1 || y >= 1) fail("the click lies outside the picture");
-        click_at(x, y, !a.extra.value("negative", false));
-    } else if (k == "pick") {
-        const int id = object_at(v[0].get<double>(), v[1].get<double>());
-        if (!id) fail("no object under " + v.dump());
-        doc_.select(id);
-    } else if (k == "select") {
-        if (!doc_.select(v.get<int>()) && doc_.state().selected != v.get<int>()) fail("no object " + v.dump());
-    } else if (k == "rename" || k == "recolour" || k == "hide" || k == "delete") {
-        const int id = doc_.state().selected;
-        if (!doc_.selected()) fail("no object is selected");
-        if (k == "rename") doc_.rename(id, v.get<std::string>());
-        if (k == "recolour") doc_.recolour(id, glm::vec3(v[0].get<float>(), v[1].get<float>(), v[2].get<float>()));
-        if (k == "hide") doc_.set_hidden(id, v.get<bool>());
-        if (k == "delete" && v.get<bool>()) doc_.remove(id);
-    } else if (k == "isolate") {
-        isolate_ = v.get<bool>();
-    } else if (k == "tints") {
-        show_tints_ = v.get<bool>();
-    } else if (k == "mask") {
-        show_mask_ = v.get<bool>();
-    } else if (k == "decoder") {
-        const std::string want = v.get<std::string>();
-        auto it = std::find_if(decoders_.begin(), decoders_.end(),
-                               [&](auto& d) { return d == want || (want != "ground-truth" && want == "model"); });
-        if (it == decoders_.end()) fail("decoder '" + want + "' is not available");
-        decoder_ = *it;
-    } else if (k == "undo") {
-        for (int i = 0; i < v.get<int>(); ++i) doc_.undo();
-    } else if (k == "redo") {
-        for (int i = 0; i < v.get<int>(); ++i) doc_.redo();
-    } else if (k == "export") {
-        if (v.is_string()) {
-            export_to(v.get<std::string>(), true, true, true, true);
-        } else {
-            export_to(v["folder"].get<std::string>(), v.value("scene", true), v.value("objects", true),
-                      v.value("masks", true), v.value("prompts", true));
-        }
-    } else if (k == "screenshot") {
-        if (a.extra.value("view", false)) {
-            if (!picture_valid_) fail("no picture yet");
-            save_rgba(v.get<std::string>(), picture_.rgba, picture_.camera.width, picture_.camera.height);
-        } else {
-            capture_path_ = v.get<std::string>();
-        }
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
 // The loop
 
 int Viewer::run() {
     auto last = Clock::now();
     while (!window_->should_close() && !quit_) {
-        const bool busy = frames_->busy() || jobs_->busy() || scripted_ ||
-                          ms_between(last_motion_, Clock::now()) < 400;
+        const bool busy = frames_->busy() || jobs_->busy() || script_ || ms_between(last_motion_, Clock::now()) < 400;
         if (busy) glfwPollEvents();
         else glfwWaitEventsTimeout(0.25);
+        // Idle is judged before the inbox is drained: what arrives now is shown by this frame.
         const bool workers_idle = !frames_->busy() && !jobs_->busy();
         inbox_.drain();
         update_segmentation();
@@ -701,36 +474,20 @@ int Viewer::run() {
         imgui_->end_frame();
         request_frame();
 
-        bool capture = false;
-        if (scripted_ && script_next_ <= script_.size()) {
-            // Each action runs once everything the previous one started has finished and shown.
-            idle_frames_ = idle(workers_idle) && errors_ == 0 ? idle_frames_ + 1 : 0;
-            if (errors_ > 0) {
-                quit_ = true;
-            } else if (idle_frames_ >= 3 && capture_path_.empty()) {
-                if (script_next_ < script_.size()) {
-                    run_action(script_[script_next_++]);
-                    idle_frames_ = 0;
-                } else {
-                    if (!options_.screenshot.empty()) capture_path_ = options_.screenshot;
-                    script_next_ = script_.size() + 1;  // done once the capture is saved
-                    if (capture_path_.empty()) quit_ = true;
-                }
-            }
-            capture = !capture_path_.empty() && idle_frames_ >= 1;
-        }
+        if (script_) script_->step(*this, workers_idle && idle());
+        const bool capture = !capture_path_.empty() && script_ && script_->settled();
         presenter_->present(fw, fh, [&](VkCommandBuffer cmd) { imgui_->record(cmd); }, capture);
         if (capture) {
             save_rgba(capture_path_, presenter_->captured(), presenter_->captured_width(),
                       presenter_->captured_height());
             capture_path_.clear();
-            if (script_next_ > script_.size()) quit_ = true;
+            if (script_->finished()) quit_ = true;
         }
         const auto now = Clock::now();
         frame_ms_ = ms_between(last, now);
         last = now;
     }
-    if (errors_ > 0 && scripted_) return 1;
+    if (errors_ > 0 && script_) return 1;
     if (vk::Context::validation_message_count() > 0) {
         std::fprintf(stderr, "viewer: %llu Vulkan validation message(s)\n",
                      (unsigned long long)vk::Context::validation_message_count());

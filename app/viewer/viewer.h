@@ -1,11 +1,11 @@
 #pragma once
-// pointgauss-viewer: the window, its state and the user's actions. Mouse, keys, panels and
-// scripts all go through the same action methods, so a script exercises what a user does.
+// pointgauss-viewer: the window, the view and the user's actions. Mouse, keys, panels and
+// scripts all call the same public actions, so a script exercises what a user does; what to
+// segment and the labels live in the Session, what is clicked in the Document.
 #include <atomic>
 #include <chrono>
 #include <map>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,11 +15,13 @@
 #include "app/viewer/job_engine.h"
 #include "app/viewer/orbit_camera.h"
 #include "app/viewer/presenter.h"
-#include "app/viewer/script.h"
+#include "app/viewer/session.h"
 #include "app/viewer/window.h"
 #include "app/viewer/worker.h"
 
 namespace pg::viewer {
+
+class ScriptRunner;
 
 struct ViewerOptions {
     std::string scene, cameras, model, up = "auto", device, script, screenshot, out, prompts;
@@ -40,15 +42,26 @@ public:
     void orbit(double yaw, double pitch);
     void pan(double right, double down);
     void zoom(double factor);
+    void fly(glm::dvec3 step);  // camera right, down, forward, in units of the distance to the target
     void frame_scene();
+    Document& document() { return doc_; }  // objects, clicks, selection, undo
+    bool set_decoder(const std::string& name);  // a model path, "model" or "ground-truth"; false if unavailable
+    void show_mask(bool on) { show_mask_ = on; }
+    void show_tints(bool on) { show_tints_ = on; }
+    void isolate(bool on) { isolate_ = on; }
+    void set_render_scale(double scale) { render_scale_ = scale; }
     void export_to(const std::string& folder, bool scene, bool objects, bool masks, bool prompts);
+    void save_picture(const std::string& png) const;   // the rendered view, without the panels
+    void save_window(const std::string& png) { capture_path_ = png; }  // at the next settled frame
+    void quit() { quit_ = true; }
+
+    // What actions refer to.
+    const SceneData& scene() const { return scene_; }
+    int snapped() const { return snapped_; }  // the dataset camera shown, -1: the free camera
+    bool idle() const;  // no work queued, every object segmented, the newest view shown
+    int errors() const { return errors_; }
 
 private:
-    struct Cached {
-        std::string signature;
-        std::optional<seg::ObjectResult> result;
-        std::string error;
-    };
     struct ExportProgress {
         std::atomic<size_t> done{0}, total{0};
         std::atomic<bool> cancel{false}, running{false};
@@ -63,20 +76,8 @@ private:
     void handle_input();
     void draw_panels();
     void draw_markers();
-    bool idle(bool workers_idle) const;
-    void run_action(const Action& a);
     void status(const std::string& text, bool error = false);
     void leave_snap();
-    // The objects to segment (prompts.json order) and what determines each one's result, recomputed
-    // only when the document or the decoder changes.
-    struct Wanted {
-        uint64_t version = ~0ull;
-        std::string decoder;
-        data::Prompts prompts;
-        std::vector<std::string> signatures;
-    };
-    const Wanted& wanted() const;
-    bool current(size_t k) const;  // object k's cached result is for its present clicks
 
     ViewerOptions options_;
     SceneData scene_;
@@ -92,7 +93,7 @@ private:
 
     // View.
     OrbitCamera orbit_;
-    int snapped_ = 0;  // dataset camera shown, -1: the free camera
+    int snapped_ = 0;
     double fov_y_ = 50;
     double render_scale_ = 1;
     glm::dvec3 centre_{0.0};
@@ -104,18 +105,17 @@ private:
     uint64_t request_id_ = 0;
     FramePicture picture_;
     bool picture_valid_ = false;
+    mutable struct {
+        uint64_t picture = ~0ull;
+        size_t pixel = 0;
+        int32_t object = 0;
+    } picked_;  // the object under the last pixel looked up
 
     // Segmentation.
     Document doc_;
+    Session session_;
     std::vector<std::string> decoders_;
     std::string decoder_;
-    std::map<int, Cached> cache_;
-    mutable Wanted wanted_;
-    bool segment_in_flight_ = false;
-    std::string assembled_key_;
-    std::shared_ptr<const std::vector<int32_t>> labels_;
-    uint64_t labels_version_ = 0;
-    std::map<int, size_t> labelled_count_;
     std::map<std::string, double> segment_ms_;
     double segment_wall_ms_ = 0, lift_ms_ = 0;
 
@@ -137,11 +137,7 @@ private:
         bool folder_set = false;
     } panel_;
 
-    // Script.
-    bool scripted_ = false;  // --script or --screenshot: replay, capture, quit
-    std::vector<Action> script_;
-    size_t script_next_ = 0;
-    int idle_frames_ = 0;
+    std::unique_ptr<ScriptRunner> script_;  // --script or --screenshot: replay, capture, quit
     std::string capture_path_;
     bool quit_ = false;
     double frame_ms_ = 0;

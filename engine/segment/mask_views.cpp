@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "dataset/synth/contact_sheet.h"
+#include "shaders/segment/picture_shared.h"
 
 namespace pg::seg {
 
@@ -29,14 +30,14 @@ std::vector<uint8_t> ViewMask::overlay(const std::function<glm::vec3(uint32_t)>&
                 const glm::vec3 c = colour(l);
                 bool edge = (x > 0 && labels[p - 1] != l) || (x + 1 < width && labels[p + 1] != l) ||
                             (y > 0 && labels[p - width] != l) || (y + 1 < height && labels[p + width] != l);
-                rgb = edge ? c : 0.45f * rgb + 0.55f * c;
+                rgb = edge ? c : gpu::kOverlayRender * rgb + gpu::kOverlayColour * c;
             }
             for (int c = 0; c < 3; ++c) px[p * 3 + c] = uint8_t(std::lround(rgb[c] * 255.0f));
         }
     return px;
 }
 
-MaskViews::MaskViews(vk::Context& ctx, const render::GpuScene& scene, const std::vector<int32_t>& labels)
+MaskViews::MaskViews(vk::Context& ctx, const render::GpuScene& scene, const vk::Buffer& labels)
     : ctx_(ctx),
       scene_(scene),
       renderer_(ctx),
@@ -44,18 +45,20 @@ MaskViews::MaskViews(vk::Context& ctx, const render::GpuScene& scene, const std:
       refiner_(ctx),
       cmd_(ctx),
       raw_(ctx, 0, vk::MemoryUse::Device, "label image"),
-      refined_(ctx, 0, vk::MemoryUse::Device, "refined label image") {
+      refined_(ctx, 0, vk::MemoryUse::Device, "refined label image"),
+      labels_(&labels) {}
+
+MaskViews::MaskViews(vk::Context& ctx, const render::GpuScene& scene, const std::vector<int32_t>& labels)
+    : MaskViews(ctx, scene, own_labels_) {
     std::vector<uint32_t> l(labels.size());
     for (size_t i = 0; i < labels.size(); ++i) l[i] = uint32_t(std::max(0, labels[i]));
-    labels_ = vk::upload_vector(ctx, l, "gaussian labels");
+    own_labels_ = vk::upload_vector(ctx, l, "gaussian labels");
 }
 
-ViewMask MaskViews::render(const data::Camera& camera, const MaskViewsOptions& o, bool read_rgba) {
-    renderer_.render(scene_, camera, o.render);
-    for (auto& t : renderer_.timings()) stage_ms_["render"] += t.ms;
-    const int w = renderer_.width(), h = renderer_.height();
+const vk::Buffer& MaskViews::label_image(const render::Renderer& rendered, const MaskViewsOptions& o) {
+    const int w = rendered.width(), h = rendered.height();
     cmd_.begin_pass("label raster");
-    rasterizer_.rasterize(cmd_, renderer_, labels_, raw_, o.mode);
+    rasterizer_.rasterize(cmd_, rendered, *labels_, raw_, o.mode);
     const vk::Buffer* result = &raw_;
     if (o.refine) {
         cmd_.begin_pass("refine");
@@ -70,10 +73,22 @@ ViewMask MaskViews::render(const data::Camera& camera, const MaskViewsOptions& o
     cmd_.end_pass();
     cmd_.submit_and_wait();
     for (auto& t : cmd_.timings()) stage_ms_[t.name] += t.ms;
+    return *result;
+}
+
+const vk::Buffer& MaskViews::label_image(const data::Camera& camera, const MaskViewsOptions& o) {
+    renderer_.render(scene_, camera, o.render);
+    for (auto& t : renderer_.timings()) stage_ms_["render"] += t.ms;
+    return label_image(renderer_, o);
+}
+
+ViewMask MaskViews::render(const data::Camera& camera, const MaskViewsOptions& o, bool read_rgba) {
+    const vk::Buffer& labels = label_image(camera, o);
+    const int w = renderer_.width(), h = renderer_.height();
     ViewMask m;
     m.width = w;
     m.height = h;
-    m.labels = vk::download_vector<uint32_t>(ctx_, *result, size_t(w) * h);
+    m.labels = vk::download_vector<uint32_t>(ctx_, labels, size_t(w) * h);
     if (read_rgba) m.rgba = vk::download_vector<float>(ctx_, renderer_.image_buffer(), size_t(w) * h * 4);
     return m;
 }

@@ -32,8 +32,15 @@ struct ViewMask {
 class MaskViews {
 public:
     MaskViews(vk::Context& ctx, const render::GpuScene& scene, const std::vector<int32_t>& labels);
+    // Labels already on the device (uint32 per Gaussian, 0: none), kept by the caller.
+    MaskViews(vk::Context& ctx, const render::GpuScene& scene, const vk::Buffer& labels);
 
     ViewMask render(const data::Camera& camera, const MaskViewsOptions& options, bool read_rgba = true);
+    // The mask of the frame `rendered` rendered last (its binning still on the device), left on
+    // the device; valid until the next call.
+    const vk::Buffer& label_image(const render::Renderer& rendered, const MaskViewsOptions& options);
+    // The same for `camera`, rendered here first (options.render applies).
+    const vk::Buffer& label_image(const data::Camera& camera, const MaskViewsOptions& options);
     // GPU ms per stage summed over the views rendered so far.
     const std::map<std::string, double>& stage_ms() const { return stage_ms_; }
 
@@ -44,7 +51,8 @@ private:
     LabelRasterizer rasterizer_;
     MaskRefiner refiner_;
     vk::CommandList cmd_;
-    vk::Buffer labels_, raw_, refined_;
+    vk::Buffer own_labels_, raw_, refined_;
+    const vk::Buffer* labels_;
     std::map<std::string, double> stage_ms_;
 };
 
