@@ -89,7 +89,7 @@ void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::a
     const std::string cameras = scene_.cameras_path.empty() ? (out / "cameras.json").string() : scene_.cameras_path;
     std::ostringstream replay;
     replay << "pointgauss segment " << scene_.scene_path << " --cameras " << cameras << " --prompts "
-           << (out / "prompts.json").string() << " --up " << up_arg << " --model " << rq.decoder << " --out OUT";
+           << (out / "prompts.json").string() << " --up " << up_arg << " --model " << rq.decoder << " --decoder ptv3 --out OUT";
     nlohmann::json report;
     report["scene"] = scene_.scene_path;
     report["cameras"] = cameras;

@@ -1,5 +1,7 @@
 #include "app/viewer/session.h"
 
+#include <stdexcept>
+
 #include <nlohmann/json.hpp>
 
 namespace pg::viewer {
@@ -26,8 +28,10 @@ seg::ObjectResult segment_job(seg::Segmenter& segmenter, const SegmentJob& job, 
     data::Prompts one;
     one.objects.push_back(job.object);
     options.seed += job.index;  // `segment` partitions object k with seed + k
+    options.graph = seg::GraphUse::None;  // one object at a time: the network alone (see README)
     auto result = segmenter.segment(one, options);
     stage_ms = result.stage_ms;
+    if (!result.objects.front().error.empty()) throw std::runtime_error(result.objects.front().error);
     return std::move(result.objects.front());
 }
 

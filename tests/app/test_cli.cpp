@@ -160,7 +160,7 @@ TEST_CASE("prompts, segment and eval run the benchmark protocol on the bundled s
     REQUIRE(p.code == 0);
     auto pred = dir / "pred";
     auto s = run("segment " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json --prompts " + prompts +
-                 " --model ground-truth --out " + (pred / "desk_000").string());
+                 " --model ground-truth --decoder ptv3 --out " + (pred / "desk_000").string());
     INFO(s.out);
     REQUIRE(s.code == 0);
     for (auto f : {"scene.ply", "report.json", "masks/view_000.png", "overlays/view_000.png", "objects/lamp_8.ply"})
@@ -193,4 +193,87 @@ TEST_CASE("prompts, segment and eval run the benchmark protocol on the bundled s
     CHECK(o.out.find("is an input of this run") != std::string::npos);
     CHECK(fs::file_size(own / "scene.ply") == before);
     CHECK_FALSE(fs::exists(own / "report.json"));
+}
+
+TEST_CASE("segment: one object's bad click fails that object only, --strict fails the run") {
+    auto dir = pg::test::scratch("cli-partial");
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    auto prompts = nlohmann::json::parse(pg::data::read_text_file(fs::path(sample()) / "prompts.json"));
+    prompts["objects"][1]["clicks"][0]["u"] = 9999;  // off the image
+    auto file = dir / "prompts.json";
+    pg::data::write_atomically(file, [&](std::ostream& os) { os << prompts.dump(); });
+    const std::string base = "segment " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json --prompts " +
+                             file.string() + " --model ground-truth --decoder ptv3 --views 0 --out ";
+    auto r = run(base + (dir / "out").string());
+    INFO(r.out);
+    CHECK(r.code == 2);
+    const std::string bad = prompts["objects"][1]["name"];
+    CHECK(r.out.find("object '" + bad + "'") != std::string::npos);
+    CHECK(r.out.find("1 of 10 object(s) failed") != std::string::npos);
+    auto report = nlohmann::json::parse(pg::data::read_text_file(dir / "out" / "report.json"));
+    CHECK(report["failed"] == 1);
+    CHECK(report["objects"][1]["error"].get<std::string>().find("off the") != std::string::npos);
+    CHECK_FALSE(report["objects"][0].contains("error"));
+    CHECK(report["objects"][0]["gaussians"].get<size_t>() > 100);
+    CHECK(fs::exists(dir / "out" / "masks" / "view_000.png"));
+    CHECK_FALSE(fs::exists(dir / "out" / "objects" / (bad + ".ply")));
+    auto strict = run(base + (dir / "strict").string() + " --strict");
+    CHECK(strict.code == 1);
+    CHECK_FALSE(fs::exists(dir / "strict" / "report.json"));
+    CHECK_FALSE(fs::exists(dir / "strict" / "scene.ply"));
+}
+
+TEST_CASE("segment --decoder: the graph decoders on the bundled sample") {
+    // graph needs no network; ptv3+graph with the ground truth as the network keeps it (almost) exact.
+    auto dir = pg::test::scratch("cli-graph");
+    fs::remove_all(dir);
+    const std::string base = "segment " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json --prompts " +
+                             sample() + "/prompts.json --views none ";
+    auto g = run(base + "--decoder graph --model no-such-file --out " + (dir / "pred-graph" / "desk_000").string());
+    INFO(g.out);
+    REQUIRE(g.code == 0);
+    auto u = run(base + "--decoder ptv3+graph --model ground-truth --out " + (dir / "pred-gt" / "desk_000").string());
+    INFO(u.out);
+    REQUIRE(u.code == 0);
+    auto report = nlohmann::json::parse(pg::data::read_text_file(dir / "pred-graph" / "desk_000" / "report.json"));
+    CHECK(report["graph"]["nodes"].get<size_t>() > 1000);
+    CHECK(report["graph"]["residual"].get<double>() <= 1e-3);
+    for (auto [name, floor] : {std::pair{"pred-graph", 0.6}, std::pair{"pred-gt", 0.97}}) {
+        auto e = run("eval --gt " + sample() + "/.. --pred " + (dir / name).string() + " --split all --json " +
+                     (dir / (std::string(name) + ".json")).string());
+        INFO(e.out);
+        REQUIRE(e.code == 0);
+        auto j = nlohmann::json::parse(pg::data::read_text_file(dir / (std::string(name) + ".json")));
+        CHECK(j["scenes"][0]["3d"]["miou"].get<double>() >= floor);
+    }
+    auto bad = run(base + "--decoder graphs --out " + (dir / "bad").string());
+    CHECK(bad.code == 1);
+    CHECK(bad.out.find("--decoder") != std::string::npos);
+}
+
+TEST_CASE("prompts never writes a click that segment cannot lift, on every suite and many seeds") {
+    auto dir = pg::test::scratch("cli-liftable");
+    fs::remove_all(dir);
+    size_t objects = 0;
+    for (const char* suite : {"desk", "vehicles", "residence", "campus"})
+        for (int seed : {41, 42, 43, 44}) {
+            const auto gt = dir / (std::string(suite) + "-" + std::to_string(seed));
+            auto s = run(std::string("synth --suite ") + suite + " --scenes 1 --seed " + std::to_string(seed) +
+                         " --density 0.05 --cameras 6 --width 160 --height 120 --out " + gt.string());
+            REQUIRE(s.code == 0);
+            fs::path scene;
+            for (auto& e : fs::directory_iterator(gt))
+                if (e.is_directory()) scene = e.path();
+            auto p = run("prompts " + scene.string() + " --out " + (gt / "prompts.json").string());
+            INFO(p.out);
+            REQUIRE(p.code == 0);
+            auto g = run("segment " + (scene / "scene.ply").string() + " --cameras " + (scene / "cameras.json").string() +
+                         " --prompts " + (gt / "prompts.json").string() +
+                         " --model ground-truth --decoder ptv3 --strict --views none --out " + (gt / "out").string());
+            INFO(suite << " seed " << seed << ": " << g.out);
+            CHECK(g.code == 0);
+            objects += nlohmann::json::parse(pg::data::read_text_file(gt / "prompts.json"))["objects"].size();
+        }
+    CHECK(objects > 60);
 }

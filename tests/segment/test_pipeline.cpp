@@ -120,13 +120,9 @@ TEST_CASE("prompt encoder: click weights and the ROI column match a CPU computat
     }
 }
 
-TEST_CASE("click lifting: the anchor lies where opacity reaches tau, and bad clicks are named") {
-    // An opaque wall of overlapping Gaussians at z = 2 in front of a camera at the origin.
-    data::GaussianCloud cloud;
-    for (int y = -20; y <= 20; ++y)
-        for (int x = -20; x <= 20; ++x)
-            ref::add_gaussian(cloud, glm::vec3(x * 0.05f, y * 0.05f, 2.0f), glm::vec3(std::log(0.04f), std::log(0.04f), -6.0f),
-                              glm::vec4(1, 0, 0, 0), 6.0f, glm::vec3(0.0f));
+namespace {
+// A 64 x 48 camera at the origin looking down +z.
+data::Camera front_camera() {
     data::Camera cam;
     cam.name = "front";
     cam.width = 64;
@@ -134,6 +130,18 @@ TEST_CASE("click lifting: the anchor lies where opacity reaches tau, and bad cli
     cam.fx = cam.fy = 60;
     cam.cx = 32;
     cam.cy = 24;
+    return cam;
+}
+}  // namespace
+
+TEST_CASE("click lifting: the anchor lies where opacity reaches tau, and bad clicks are named") {
+    // An opaque wall of overlapping Gaussians at z = 2 in front of a camera at the origin.
+    data::GaussianCloud cloud;
+    for (int y = -20; y <= 20; ++y)
+        for (int x = -20; x <= 20; ++x)
+            ref::add_gaussian(cloud, glm::vec3(x * 0.05f, y * 0.05f, 2.0f), glm::vec3(std::log(0.04f), std::log(0.04f), -6.0f),
+                              glm::vec4(1, 0, 0, 0), 6.0f, glm::vec3(0.0f));
+    const data::Camera cam = front_camera();
     auto& ctx = test::gpu();
     render::GpuScene gpu(ctx, cloud);
     render::Renderer renderer(ctx);
@@ -229,13 +237,7 @@ TEST_CASE("click lifting: a translucent surface lifts where opacity reaches tau 
                 ref::add_gaussian(cloud, glm::vec3(x * 0.08f, y * 0.08f, 2.0f + 0.6f * float(layer)),
                                   glm::vec3(std::log(0.05f), std::log(0.05f), -6.0f), glm::vec4(1, 0, 0, 0),
                                   layer == 0 ? 0.0f : -0.5f, glm::vec3(0.0f));
-    data::Camera cam;
-    cam.name = "front";
-    cam.width = 64;
-    cam.height = 48;
-    cam.fx = cam.fy = 60;
-    cam.cx = 32;
-    cam.cy = 24;
+    const data::Camera cam = front_camera();
     auto plain = ref::render_reference(cloud, cam);
     auto& ctx = test::gpu();
     render::GpuScene gpu(ctx, cloud);

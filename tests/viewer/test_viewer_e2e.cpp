@@ -125,7 +125,7 @@ TEST_CASE("a click in the viewer outlines the object, exports its masks and repl
     Run s = pg::test::run_cli("segment " + (kScene / "scene.ply").string() + " --cameras " +
                               (kScene / "cameras.json").string() + " --prompts " +
                               (dir / "export" / "prompts.json").string() +
-                              " --model ground-truth --views none --out " + (dir / "replay").string());
+                              " --model ground-truth --decoder ptv3 --views none --out " + (dir / "replay").string());
     INFO(s.out);
     REQUIRE(s.code == 0);
     auto viewer_labels = pg::data::eval::read_gaussian_labels(dir / "export" / "scene.ply", "instance");
@@ -294,7 +294,7 @@ TEST_CASE("the viewer starts from a prompts.json and labels every Gaussian as se
     REQUIRE(r.code == 0);
     Run s = pg::test::run_cli("segment " + (kScene / "scene.ply").string() + " --cameras " +
                               (kScene / "cameras.json").string() + " --prompts " + prompts.string() +
-                              " --model ground-truth --views none --out " + (dir / "replay").string());
+                              " --model ground-truth --decoder ptv3 --views none --out " + (dir / "replay").string());
     INFO(s.out);
     REQUIRE(s.code == 0);
     auto viewer_labels = pg::data::eval::read_gaussian_labels(dir / "export" / "scene.ply", "instance");
