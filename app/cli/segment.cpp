@@ -35,6 +35,7 @@ struct SegmentArgs {
     seg::GraphOptions graph;
     seg::WalkOptions walk;
     float unary = 1.0f, unary_confidence = 0.97f;
+    uint32_t coarse = 8;
     double margin = 0.5;
     uint64_t seed = 1;
     DeviceOptions device;
@@ -82,6 +83,7 @@ void run_segment(const SegmentArgs& args) {
     o.walk = a.walk;
     o.unary = a.unary;
     o.unary_confidence = a.unary_confidence;
+    o.coarse_stride = a.coarse;
     o.graph_margin = a.margin;
     if (!a.roi.empty()) parse_roi(a.roi, o.roi_length, o.roi_width);
     auto gt = cloud.int_property(a.label_property);
@@ -207,6 +209,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--unary", a->unary, "ptv3+graph: strength of the network's probabilities, in units of a Gaussian's degree")->capture_default_str();
     cmd->add_option("--unary-confidence", a->unary_confidence, "ptv3+graph: the network's probabilities count only where its most likely label reaches this")->capture_default_str();
     cmd->add_option("--walk-iterations", a->walk.max_iterations, "Graph: most conjugate-gradient iterations")->capture_default_str();
+    cmd->add_option("--walk-coarse", a->coarse, "Graph: a first solve on every n-th Gaussian starts the full one (1: none)")->capture_default_str();
     cmd->add_option("--walk-tolerance", a->walk.tolerance, "Graph: relative residual to stop at")->capture_default_str();
     add_device_option(*cmd, a->device);
     cmd->callback([a, &run] { run = [a] { run_segment(*a); }; });

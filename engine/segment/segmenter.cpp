@@ -7,6 +7,7 @@
 
 #include "dataset/error.h"
 #include "dataset/up_axis.h"
+#include "dataset/clicks/point_grid.h"
 #include "engine/segment/partition.h"
 
 namespace pg::seg {
@@ -38,12 +39,12 @@ size_t SegmentResult::failed() const {
 Segmenter::Segmenter(vk::Context& ctx, const data::GaussianCloud& cloud, const render::GpuScene& scene,
                      const std::vector<data::Camera>& cameras, Decoder& decoder)
     : ctx_(ctx), cloud_(cloud), scene_(scene), cameras_(cameras), decoder_(&decoder), renderer_(ctx), encoder_(ctx),
-      graph_(ctx), walker_(ctx) {}
+      graph_(ctx), coarse_graph_(ctx), walker_(ctx) {}
 
 Segmenter::Segmenter(vk::Context& ctx, const data::GaussianCloud& cloud, const render::GpuScene& scene,
                      const std::vector<data::Camera>& cameras)
     : ctx_(ctx), cloud_(cloud), scene_(scene), cameras_(cameras), decoder_(nullptr), renderer_(ctx), encoder_(ctx),
-      graph_(ctx), walker_(ctx) {}
+      graph_(ctx), coarse_graph_(ctx), walker_(ctx) {}
 
 double Segmenter::scale_from_cameras(const glm::dvec3& target) const {
     if (cameras_.empty()) return 1.0;
@@ -175,6 +176,49 @@ void Segmenter::prepare(const data::ObjectPrompt& prompt, size_t index, const Se
     result.stage_ms["decode"] += ms_since(t0);
 }
 
+std::vector<float> Segmenter::coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain,
+                                           const WalkProblem& fine) {
+    // The same problem on every coarse_stride-th node (and every object's click): a graph
+    // with fewer hops across, solved in a fraction of the fine solve's iterations; each fine
+    // node starts from its nearest coarse node's answer, so the fine solve only sharpens it.
+    const uint32_t nodes = uint32_t(domain.size()), labels = fine.labels;
+    std::vector<uint32_t> members, coarse_domain;
+    for (uint32_t i = 0; i < nodes; ++i) {
+        if (i % o.coarse_stride == 0 || fine.seed[i] > 0) {
+            members.push_back(i);
+            coarse_domain.push_back(domain[i]);
+        }
+    }
+    coarse_graph_.build(scene_, cloud_, coarse_domain, o.graph_options);
+    WalkProblem cp;
+    cp.labels = labels;
+    const uint32_t m = uint32_t(members.size());
+    cp.seed.resize(m);
+    for (uint32_t c = 0; c < m; ++c) cp.seed[c] = fine.seed[members[c]];
+    if (!fine.gamma.empty()) {
+        auto degree = vk::download_vector<float>(ctx_, coarse_graph_.degree_buffer(), m);
+        cp.gamma.resize(m);
+        cp.prior.resize(size_t(m) * labels);
+        for (uint32_t c = 0; c < m; ++c) {
+            cp.gamma[c] = fine.gamma[members[c]] > 0 ? o.unary * degree[c] : 0.0f;
+            std::copy_n(&fine.prior[size_t(members[c]) * labels], labels, &cp.prior[size_t(c) * labels]);
+        }
+    }
+    auto coarse = walker_.solve(coarse_graph_, cp, o.walk);
+    std::vector<glm::vec3> positions(m);
+    for (uint32_t c = 0; c < m; ++c) positions[c] = cloud_.mean[coarse_domain[c]];
+    std::vector<uint32_t> all(m);
+    for (uint32_t c = 0; c < m; ++c) all[c] = c;
+    data::clicks::PointGrid grid(positions, all, std::max(coarse_graph_.cell_side(), 1e-6f));
+    std::vector<float> start(size_t(nodes) * labels, 0.0f);
+    for (uint32_t i = 0; i < nodes; ++i) {
+        uint32_t c = 0;
+        if (grid.nearest(cloud_.mean[domain[i]], 0xFFFFFFFFu, 64, &c) < 0) continue;
+        std::copy_n(&coarse.x[size_t(c) * labels], labels, &start[size_t(i) * labels]);
+    }
+    return start;
+}
+
 void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                             const std::vector<std::vector<uint32_t>>& rois,
                             const std::vector<std::vector<float>>& probabilities, SegmentResult& result) {
@@ -265,6 +309,11 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
                 pr.start[size_t(i) * labels + l] =
                     it != last_solution_.end() ? it->second[i] : (pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l]);
         }
+    }
+    if (!warm && o.coarse_stride > 1 && nodes >= 64 * o.coarse_stride) {
+        auto t1 = Clock::now();
+        pr.start = coarse_start(o, domain, pr);
+        result.stage_ms["graph coarse start"] += ms_since(t1);
     }
     auto solution = walker_.solve(graph_, pr, o.walk);
     last_solution_.clear();

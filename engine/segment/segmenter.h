@@ -46,7 +46,8 @@ struct SegmentOptions {
     WalkOptions walk;
     double graph_margin = 0.5;    // the solve's domain: the ROI columns widened by this fraction per side
     float unary = 1.0f;           // ptv3+graph: a node's unary strength, in units of its degree,
-    float unary_confidence = 0.97f;  // where the network's most likely label has at least this probability
+    float unary_confidence = 0.97f;
+    uint32_t coarse_stride = 8;   // a first solve on every n-th node starts the fine one (1: none)  // where the network's most likely label has at least this probability
 };
 
 struct ObjectResult {
@@ -104,6 +105,8 @@ private:
     void solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                      const std::vector<std::vector<uint32_t>>& rois, const std::vector<std::vector<float>>& probabilities,
                      SegmentResult& result);
+    // A starting point for the fine solve from the same problem on a subset of the nodes.
+    std::vector<float> coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine);
     Anchor anchor_for(const data::PromptClick& click, const render::RenderSettings& settings, const std::string& what);
 
     vk::Context& ctx_;
@@ -113,7 +116,7 @@ private:
     Decoder* decoder_;
     render::Renderer renderer_;
     PromptEncoder encoder_;
-    KnnGraph graph_;
+    KnnGraph graph_, coarse_graph_;
     RandomWalker walker_;
     std::vector<uint32_t> graph_domain_;  // the domain graph_ was built over, and with which options
     GraphOptions graph_built_with_;

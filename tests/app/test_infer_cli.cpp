@@ -144,5 +144,5 @@ TEST_CASE("segment defaults to the shipped model and it finds the clicked object
         ++objects;
     }
     CHECK(objects == 10);
-    CHECK(iou_sum / objects > 0.35);  // 0.57 with the shipped model on lavapipe
+    CHECK(iou_sum / objects > 0.75);  // 0.91 with ptv3+graph on lavapipe (0.59 with the network alone)
 }
