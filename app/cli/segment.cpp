@@ -119,7 +119,7 @@ void run_segment(const SegmentArgs& args) {
                         (decoder ? " (" + decoder->name() + ")" : std::string());
     if (result.graph) {
         auto& g = *result.graph;
-        report["graph"] = {{"nodes", g.nodes},         {"seeds", g.seeds},         {"unreached", g.unreached},
+        report["graph"] = {{"nodes", g.nodes},         {"seeds", g.seeds},         {"unreached", g.unreached}, {"unreached_components", g.unreached_components},
                            {"iterations", g.iterations}, {"residual", g.residual}, {"cell", g.cell},
                            {"spacing", g.spacing},     {"k", o.graph_options.k}};
     }

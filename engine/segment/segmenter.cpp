@@ -176,6 +176,40 @@ void Segmenter::prepare(const data::ObjectPrompt& prompt, size_t index, const Se
     result.stage_ms["decode"] += ms_since(t0);
 }
 
+namespace {
+
+// Per node: whether its connected component holds a seed or a prior; counts the others.
+std::vector<uint8_t> reached_components(const KnnGraph& graph, const WalkProblem& pr, GraphReport& report) {
+    const uint32_t n = graph.nodes(), k = graph.k();
+    std::vector<uint32_t> parent(n);
+    for (uint32_t i = 0; i < n; ++i) parent[i] = i;
+    auto find = [&](uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    const auto nbr = graph.neighbours();
+    for (uint32_t i = 0; i < n; ++i)
+        for (uint32_t t = 0; t < k; ++t)
+            if (uint32_t j = nbr[size_t(i) * k + t]; j < n) {
+                uint32_t a = find(i), b = find(j);
+                if (a != b) parent[std::max(a, b)] = std::min(a, b);
+            }
+    std::vector<uint8_t> root_reached(n, 0), seen(n, 0), reached(n, 0);
+    for (uint32_t i = 0; i < n; ++i)
+        if (pr.seed[i] >= 0 || (!pr.gamma.empty() && pr.gamma[i] > 0)) root_reached[find(i)] = 1;
+    for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t r = find(i);
+        reached[i] = root_reached[r];
+        if (!reached[i]) {
+            ++report.unreached;
+            if (!seen[r]) seen[r] = 1, ++report.unreached_components;
+        }
+    }
+    return reached;
+}
+
+}  // namespace
+
 std::vector<float> Segmenter::coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain,
                                            const WalkProblem& fine) {
     // The same problem on every coarse_stride-th node (and every object's click): a graph
@@ -330,7 +364,11 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     report.residual = solution.residual;
     report.cell = graph_.cell_side();
     report.spacing = graph_.median_spacing();
+    // A component of the graph with no seed and no prior has no answer (its system is singular
+    // and keeps whatever it started from): it stays unlabelled and is counted.
+    const auto reached = reached_components(graph_, pr, report);
     for (uint32_t i = 0; i < nodes; ++i) {
+        if (!reached[i]) continue;
         const float* x = &solution.x[size_t(i) * labels];
         float sum = 0, best = 0;
         uint32_t arg = 0;
@@ -339,11 +377,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
             sum += v;
             if (v > best) best = v, arg = l;
         }
-        if (!(sum > 1e-6f)) {
-            ++report.unreached;
-            continue;
-        }
-        if (arg > 0) objects[arg - 1]->claims.push_back({domain[i], best / sum});
+        if (arg > 0 && sum > 0) objects[arg - 1]->claims.push_back({domain[i], best / sum});
     }
     result.graph = report;
     result.stage_ms["graph solve"] += ms_since(t0);

@@ -64,7 +64,8 @@ struct ObjectResult {
 };
 
 struct GraphReport {
-    size_t nodes = 0, seeds = 0, unreached = 0;  // unreached: no seed or prior in their component
+    size_t nodes = 0, seeds = 0;
+    size_t unreached = 0, unreached_components = 0;  // Gaussians (and components) with no seed or prior: unlabelled
     uint32_t iterations = 0;
     double residual = 0, cell = 0, spacing = 0;
 };

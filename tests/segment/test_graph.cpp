@@ -127,7 +127,7 @@ namespace {
 // Three balls of distinct colours standing apart on a grey floor (y-down world, floor at y = 0).
 struct BallsScene {
     data::GaussianCloud cloud;
-    std::vector<int32_t> ball;  // 1..3 per Gaussian, 0 for the floor
+    std::vector<int32_t> ball;  // 1..3 per Gaussian, 4 a floating cluster, 0 the floor
     std::vector<data::Camera> cameras;
 };
 
@@ -143,6 +143,12 @@ BallsScene balls_scene() {
                               glm::vec4(1, 0, 0, 0), 4.0f, ref::dc_from_rgb(colours[b]));
             s.ball.push_back(b + 1);
         }
+    // A floating cluster high above the left ball: in its ROI column, joined to nothing.
+    for (int i = 0; i < 60; ++i) {
+        ref::add_gaussian(s.cloud, glm::vec3(-1.0f + rng.uniform(-0.05f, 0.05f), -2.5f, rng.uniform(-0.05f, 0.05f)),
+                          glm::vec3(std::log(0.01f)), glm::vec4(1, 0, 0, 0), 4.0f, ref::dc_from_rgb(glm::vec3(0.9f)));
+        s.ball.push_back(4);
+    }
     for (int i = 0; i < 5000; ++i) {
         ref::add_gaussian(s.cloud, glm::vec3(rng.uniform(-2, 2), 0.0f, rng.uniform(-1, 1)),
                           glm::vec3(std::log(0.03f), std::log(0.003f), std::log(0.03f)), glm::vec4(1, 0, 0, 0), 4.0f,
@@ -192,9 +198,12 @@ TEST_CASE("graph decoder: each object's click takes its own object, unclicked co
     CHECK(r.failed() == 0);
     CHECK(iou(r.labels, 1, s.ball, 1) > 0.9);
     CHECK(iou(r.labels, 2, s.ball, 2) > 0.9);
+    // The floating cluster's component holds no seed: unlabelled, and counted.
+    CHECK(r.graph->unreached_components >= 1);
+    CHECK(r.graph->unreached >= 60);
     size_t right = 0, floor_labelled = 0, floor = 0;
     for (size_t i = 0; i < s.ball.size(); ++i) {
-        right += s.ball[i] == 3 && r.labels[i] != 0;
+        right += (s.ball[i] == 3 || s.ball[i] == 4) && r.labels[i] != 0;
         floor += s.ball[i] == 0;
         floor_labelled += s.ball[i] == 0 && r.labels[i] != 0;
     }
