@@ -29,7 +29,7 @@ namespace {
 
 struct SegmentArgs {
     std::string scene, cameras, prompts, out, model, views = "all", mode = "occlusion", up = "cameras";
-    std::string roi, label_property = "instance", decoder = "ptv3+graph";
+    std::string roi, label_property = "instance", decoder = "graph";
     double sigma = 0, scale = 0;
     bool no_refine = false, strict = false;
     seg::GraphOptions graph;
@@ -131,6 +131,7 @@ void run_segment(const SegmentArgs& args) {
                           {"batches", obj.batches}, {"gaussians", obj.labelled}, {"sigma", obj.sigma},
                           {"roi", {obj.roi.length, obj.roi.width}}};
         if (!obj.error.empty()) jo["error"] = obj.error;
+        if (graph_use == seg::GraphUse::Unary) jo["network_prior"] = obj.network_trusted;
         // fallback: the click's pixel never reached tau; it lifted at tau x its final opacity (coverage).
         for (auto& an : obj.anchors)
             jo["anchors"].push_back({{"position", {an.position.x, an.position.y, an.position.z}},

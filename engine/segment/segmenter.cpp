@@ -178,7 +178,8 @@ void Segmenter::prepare(const data::ObjectPrompt& prompt, size_t index, const Se
 
 namespace {
 
-// Per node: whether its connected component holds a seed or a prior; counts the others.
+// Per node: whether its connected component holds a seed, a prior or a coarse start (the
+// coarse graph, sparser, joins what the fine kNN graph splits); counts the others.
 std::vector<uint8_t> reached_components(const KnnGraph& graph, const WalkProblem& pr, GraphReport& report) {
     const uint32_t n = graph.nodes(), k = graph.k();
     std::vector<uint32_t> parent(n);
@@ -195,8 +196,14 @@ std::vector<uint8_t> reached_components(const KnnGraph& graph, const WalkProblem
                 if (a != b) parent[std::max(a, b)] = std::min(a, b);
             }
     std::vector<uint8_t> root_reached(n, 0), seen(n, 0), reached(n, 0);
+    auto started = [&](uint32_t i) {
+        if (pr.start.empty()) return false;
+        for (uint32_t l = 0; l < pr.labels; ++l)
+            if (pr.start[size_t(i) * pr.labels + l] > 0) return true;
+        return false;
+    };
     for (uint32_t i = 0; i < n; ++i)
-        if (pr.seed[i] >= 0 || (!pr.gamma.empty() && pr.gamma[i] > 0)) root_reached[find(i)] = 1;
+        if (pr.seed[i] >= 0 || (!pr.gamma.empty() && pr.gamma[i] > 0) || started(i)) root_reached[find(i)] = 1;
     for (uint32_t i = 0; i < n; ++i) {
         const uint32_t r = find(i);
         reached[i] = root_reached[r];
@@ -309,14 +316,25 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     if (o.graph == GraphUse::Unary) {
         // The network's probabilities as a prior: q_j = p_j where object j's ROI holds the node,
         // background = the product of (1 - p_j), normalised; strength `unary` x the node's degree.
+        // A network that calls the object's own clicked Gaussians background contradicts the user
+        // (it happens on real captures unlike its training data): that object gets no prior and
+        // is solved as by the graph alone.
         std::vector<float> fg(size_t(nodes) * labels, 0.0f), bg(nodes, 1.0f);
-        for (size_t j = 0; j < m; ++j)
+        for (size_t j = 0; j < m; ++j) {
+            double at_clicks = 0;
+            size_t clicks = 0;
+            for (size_t s = 0; s < rois[j].size(); ++s)
+                for (auto& a : objects[j]->anchors)
+                    if (a.positive && a.gaussian == int32_t(rois[j][s])) at_clicks += probabilities[j][s], ++clicks;
+            objects[j]->network_trusted = clicks > 0 && at_clicks / double(clicks) > 0.5;
+            if (!objects[j]->network_trusted) continue;
             for (size_t s = 0; s < rois[j].size(); ++s) {
                 int32_t i = node_of[rois[j][s]];
                 if (i < 0) continue;
                 fg[size_t(i) * labels + j + 1] = probabilities[j][s];
                 bg[size_t(i)] *= 1.0f - probabilities[j][s];
             }
+        }
         auto degree = vk::download_vector<float>(ctx_, graph_.degree_buffer(), nodes);
         pr.gamma.assign(nodes, 0.0f);
         pr.prior = std::move(fg);
@@ -364,8 +382,8 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     report.residual = solution.residual;
     report.cell = graph_.cell_side();
     report.spacing = graph_.median_spacing();
-    // A component of the graph with no seed and no prior has no answer (its system is singular
-    // and keeps whatever it started from): it stays unlabelled and is counted.
+    // A component of the graph with no seed, prior or coarse start has no answer (its system is
+    // singular and keeps whatever it started from): it stays unlabelled and is counted.
     const auto reached = reached_components(graph_, pr, report);
     for (uint32_t i = 0; i < nodes; ++i) {
         if (!reached[i]) continue;

@@ -60,6 +60,9 @@ struct ObjectResult {
     // Gaussians the decoder gave this object with P(foreground) > 1/2, and that probability.
     std::vector<std::pair<uint32_t, float>> claims;
     std::string error;            // why the object failed (no labels); empty if it was segmented
+    // ptv3+graph: whether the network's probabilities were used (it agreed with the object's
+    // clicks: P(foreground) > 1/2 at its positive clicks on average).
+    bool network_trusted = false;
     size_t fallback_clicks() const;
 };
 

@@ -113,7 +113,7 @@ TEST_CASE("segment runs a PTv3 model file as its decoder and names it in the rep
     CHECK(r.out.find("--model") != std::string::npos);
 }
 
-TEST_CASE("segment defaults to the shipped model and it finds the clicked object on the sample") {
+TEST_CASE("segment's default decoder and the shipped model find the clicked objects on the sample") {
     const auto dir = pg::test::scratch("segment-default");
     const fs::path sample = pg::test::source_dir() / "assets/sample/desk_000";
     REQUIRE(fs::exists(pg::test::source_dir() / "assets/models/interactive.safetensors"));
@@ -121,7 +121,7 @@ TEST_CASE("segment defaults to the shipped model and it finds the clicked object
     fs::remove_all(out);
     auto r = pg::test::run_cli("segment " + (sample / "scene.ply").string() + " --cameras " +
                                (sample / "cameras.json").string() + " --prompts " + (sample / "prompts.json").string() +
-                               " --views none --out " + out.string());
+                               " --decoder ptv3+graph --views none --out " + out.string());
     INFO(r.out);
     REQUIRE(r.code == 0);
     auto report = nlohmann::json::parse(std::ifstream(out / "report.json"));
