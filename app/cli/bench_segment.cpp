@@ -9,10 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
-#include "dataset/camera_io.h"
 #include "dataset/error.h"
+#include "dataset/formats/camera_io.h"
+#include "dataset/formats/scene_io.h"
 #include "dataset/prompts.h"
-#include "dataset/scene_io.h"
 #include "dataset/up_axis.h"
 #include "engine/segment/mask_views.h"
 #include "engine/segment/segmenter.h"
@@ -67,7 +67,11 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     seg::SegmentResult result;
     for (int r = 0; r < a.repeats + 1; ++r) {  // the first run warms pipelines and buffers up
         auto t0 = std::chrono::steady_clock::now();
-        result = segmenter.segment(one, o);
+        try {
+            result = segmenter.segment(one, o);
+        } catch (const data::InputError& e) {
+            throw data::InputError(flag_for(e.where()), e.reason());
+        }
         double total = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (r == 0) {
             cold_ms = total;

@@ -4,10 +4,10 @@
 
 #include "app/cli/commands.h"
 #include "app/common/up_arg.h"
-#include "dataset/camera_io.h"
 #include "dataset/error.h"
+#include "dataset/formats/camera_io.h"
+#include "dataset/formats/scene_io.h"
 #include "dataset/orbit.h"
-#include "dataset/scene_io.h"
 
 namespace pg::app {
 

@@ -18,12 +18,12 @@
 #include "app/common/ptv3_decoder.h"
 #include "app/common/up_arg.h"
 #include "dataset/atomic_file.h"
-#include "dataset/camera_io.h"
 #include "dataset/clicks/session.h"
 #include "dataset/error.h"
 #include "dataset/eval/click_metrics.h"
 #include "dataset/eval/suite_info.h"
-#include "dataset/scene_io.h"
+#include "dataset/formats/camera_io.h"
+#include "dataset/formats/scene_io.h"
 #include "dataset/up_axis.h"
 #include "engine/segment/segmenter.h"
 #include "engine/vk/context.h"
@@ -192,7 +192,11 @@ void run_clicks(const ClicksArgs& a) {
                     op.clicks.push_back(pc);
                 }
                 prompts.objects.push_back(std::move(op));
-                return clk::mask_of(segmenter.segment(prompts, o).labels, id);
+                try {
+                    return clk::mask_of(segmenter.segment(prompts, o).labels, id);
+                } catch (const data::InputError& e) {
+                    throw data::InputError(flag_for(e.where()), e.reason());
+                }
             });
             const double ms = ms_since(t0);
             nlohmann::json jo{{"id", id}, {"name", obj_name}, {"gaussians", gt_size}, {"ms", ms},

@@ -52,6 +52,12 @@ inline double median(std::vector<double> v) {
 // "L,W" (both > 0) -> the ROI length and width; InputError naming --roi otherwise.
 void parse_roi(const std::string& spec, double& length, double& width);
 
+// The engine's InputErrors name its parameters ("sigma", "roi", "decoder"); the CLI's name the
+// flags that set them. flag_for maps an error's where(), with_flags an object's error text
+// ("where: reason").
+std::string flag_for(const std::string& where);
+std::string with_flags(const std::string& error);
+
 // "all" or a comma list of indices or camera names -> indices into `cameras`.
 std::vector<size_t> select_views(const std::string& spec, const std::vector<data::Camera>& cameras);
 

@@ -7,7 +7,7 @@
 
 #include "app/cli/commands.h"
 #include "dataset/error.h"
-#include "dataset/train/train_curves.h"
+#include "dataset/report/train_curves.h"
 
 namespace pg::app {
 
@@ -22,7 +22,7 @@ void run_curves(const CurvesArgs& a) {
     if (!fs::is_regular_file(a.log)) throw data::InputError(a.log, "is not a file");
     if (fs::path(a.out).extension() != ".png") throw data::InputError("--out", "must end in .png");
     if (fs::exists(a.out) && fs::equivalent(a.log, a.out)) throw data::InputError("--out", "is the log itself");
-    data::train::write_train_curves(a.log, a.out);
+    data::report::write_train_curves(a.log, a.out);
     std::printf("wrote %s\n", a.out.c_str());
 }
 

@@ -7,10 +7,10 @@
 
 #include "app/cli/commands.h"
 #include "dataset/atomic_file.h"
-#include "dataset/chart.h"
 #include "dataset/error.h"
 #include "dataset/eval/report.h"
 #include "dataset/eval/suite_eval.h"
+#include "dataset/report/chart.h"
 
 namespace pg::app {
 
@@ -34,7 +34,7 @@ void write_clicks_plot(const data::eval::SuiteEval& result, const std::string& p
     };
     const std::array<std::array<uint8_t, 3>, 6> palette{{{230, 120, 40}, {40, 160, 90}, {150, 80, 190},
                                                           {200, 60, 60}, {40, 160, 180}, {160, 140, 40}}};
-    data::ChartPanel panel{result.info.suite + " (" + result.split + " split): mean IoU after k clicks", "clicks", {}, 0.0, 1.0};
+    data::report::ChartPanel panel{result.info.suite + " (" + result.split + " split): mean IoU after k clicks", "clicks", {}, 0.0, 1.0};
     std::vector<const ev::ObjectClicks*> all;
     for (const auto& scene : result.scenes) {
         std::vector<const ev::ObjectClicks*> objects;
@@ -46,7 +46,7 @@ void write_clicks_plot(const data::eval::SuiteEval& result, const std::string& p
     }
     if (all.empty()) throw data::InputError("--plot", "the predictions hold no clicks.json (run `pointgauss clicks` first)");
     panel.series.push_back({"all " + std::to_string(all.size()) + " objects", {40, 70, 200}, curve(all), true});
-    const data::Image8 img = data::draw_chart({panel}, 760, 380);
+    const data::Image8 img = data::report::draw_chart({panel}, 760, 380);
     data::write_png8(path, img.width, img.height, img.channels, img.pixels);
 }
 

@@ -5,8 +5,8 @@
 #include <glm/glm.hpp>
 
 #include "app/cli/commands.h"
-#include "dataset/camera_io.h"
-#include "dataset/scene_io.h"
+#include "dataset/formats/camera_io.h"
+#include "dataset/formats/scene_io.h"
 #include "dataset/scene_stats.h"
 
 namespace pg::app {

@@ -11,10 +11,10 @@
 #include "app/cli/commands.h"
 #include "app/cli/progress.h"
 #include "dataset/atomic_file.h"
-#include "dataset/camera_io.h"
 #include "dataset/error.h"
-#include "dataset/image_io.h"
-#include "dataset/scene_io.h"
+#include "dataset/formats/camera_io.h"
+#include "dataset/formats/image_io.h"
+#include "dataset/formats/scene_io.h"
 #include "engine/render/renderer.h"
 #include "engine/vk/context.h"
 

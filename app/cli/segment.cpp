@@ -11,10 +11,10 @@
 #include "app/common/ptv3_decoder.h"
 #include "app/common/up_arg.h"
 #include "dataset/atomic_file.h"
-#include "dataset/camera_io.h"
 #include "dataset/error.h"
+#include "dataset/formats/camera_io.h"
+#include "dataset/formats/scene_io.h"
 #include "dataset/prompts.h"
-#include "dataset/scene_io.h"
 #include "dataset/up_axis.h"
 #include "engine/segment/export.h"
 #include "engine/segment/label_raster.h"
@@ -49,6 +49,18 @@ void parse_roi(const std::string& spec, double& length, double& width) {
     char extra;
     if (std::sscanf(spec.c_str(), "%lf,%lf%c", &length, &width, &extra) != 2 || !(length > 0 && width > 0))
         throw data::InputError("--roi", "expected length,width > 0, got '" + spec + "'");
+}
+
+std::string flag_for(const std::string& where) {
+    for (const char* p : {"sigma", "roi", "decoder"})
+        if (where == p) return "--" + where;
+    return where;
+}
+
+std::string with_flags(const std::string& error) {
+    const size_t colon = error.find(": ");
+    if (colon == std::string::npos) return error;
+    return flag_for(error.substr(0, colon)) + error.substr(colon);
 }
 
 namespace {
@@ -105,7 +117,13 @@ void run_segment(const SegmentArgs& args) {
     else if (network) decoder = std::make_unique<Ptv3Decoder>(ctx, a.model);
     auto segmenter = decoder ? std::make_unique<seg::Segmenter>(ctx, cloud, scene, cameras, *decoder)
                              : std::make_unique<seg::Segmenter>(ctx, cloud, scene, cameras);
-    auto result = segmenter->segment(prompts, o);
+    seg::SegmentResult result;
+    try {
+        result = segmenter->segment(prompts, o);
+    } catch (const data::InputError& e) {
+        throw data::InputError(flag_for(e.where()), e.reason());
+    }
+    for (auto& obj : result.objects) obj.error = with_flags(obj.error);
     const size_t failed = result.failed();
     if (failed == result.objects.size())
         throw data::InputError(a.prompts, "no object could be segmented; the first: " + result.objects[0].error);

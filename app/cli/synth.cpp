@@ -11,6 +11,7 @@
 #include "app/cli/progress.h"
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
+#include "dataset/report/palette.h"
 #include "dataset/synth/contact_sheet.h"
 #include "dataset/synth/synth.h"
 #include "engine/render/renderer.h"
@@ -101,7 +102,7 @@ void run_synth(const SynthArgs& a) {
         Agreement agree = measure_agreement(renderer, gpu, scene, labels, &previews, a.preview_views);
         size_t stride = std::max<size_t>(1, scene.cameras.size() / size_t(a.preview_views));
         for (size_t v = 0; v < scene.cameras.size() && masks.size() < previews.size(); v += stride)
-            masks.push_back(data::synth::colourise_mask(scene.masks[v], scene.cameras[v].width, scene.cameras[v].height));
+            masks.push_back(data::report::colourise_mask(scene.masks[v], scene.cameras[v].width, scene.cameras[v].height));
         data::synth::write_contact_sheet(dir / "contact_sheet.png",
                                          data::synth::make_contact_sheet(previews, masks, 4));
         double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -7,8 +7,8 @@
 
 #include "app/common/ptv3_decoder.h"
 #include "dataset/atomic_file.h"
-#include "dataset/camera_io.h"
 #include "dataset/error.h"
+#include "dataset/formats/camera_io.h"
 #include "engine/segment/export.h"
 #include "engine/segment/prompt_encoder.h"
 #include "engine/vk/context.h"

@@ -11,12 +11,12 @@
 #include "app/common/ptv3_decoder.h"
 #include "app/common/up_arg.h"
 #include "app/viewer/script_runner.h"
-#include "dataset/camera_io.h"
 #include "dataset/error.h"
-#include "dataset/image_io.h"
+#include "dataset/formats/camera_io.h"
+#include "dataset/formats/image_io.h"
+#include "dataset/formats/scene_io.h"
 #include "dataset/orbit.h"
 #include "dataset/prompts.h"
-#include "dataset/scene_io.h"
 
 namespace pg::viewer {
 

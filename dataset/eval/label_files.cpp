@@ -8,7 +8,7 @@
 
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
-#include "dataset/scene_io.h"
+#include "dataset/formats/scene_io.h"
 
 namespace pg::data::eval {
 

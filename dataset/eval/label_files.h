@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "dataset/eval/click_metrics.h"
-#include "dataset/image_io.h"
+#include "dataset/formats/image_io.h"
 
 namespace pg::data::eval {
 

@@ -1,21 +1,16 @@
 #pragma once
 // A contact sheet of a synthetic scene: views and their colourised ground-truth masks tiled
 // into one image, for a quick look at what a suite contains. Pure image code; the CLI
-// renders the RGB views and writes the sheet.
+// renders the RGB views and writes the sheet; masks are coloured by dataset/report/palette.h.
 #include <cstdint>
 #include <filesystem>
 #include <vector>
 
 #include <glm/glm.hpp>
 
-#include "dataset/image_io.h"
+#include "dataset/formats/image_io.h"
 
 namespace pg::data::synth {
-
-// Deterministic colour of a mask id: black for 0, well separated hues otherwise.
-glm::u8vec3 mask_colour(uint16_t id);
-// An id mask (row-major, width*height) as an 8-bit RGB image.
-Image8 colourise_mask(const std::vector<uint16_t>& mask, int width, int height);
 
 // Tiles in reading order, `columns` per row, `gap` pixels of dark grey between and around
 // them. Pairs (rgb[i], mask[i]) sit side by side, so a row holds columns/2 views when

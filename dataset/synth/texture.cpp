@@ -47,17 +47,6 @@ float fbm(const glm::dvec3& p, int octaves, uint64_t seed) {
     return sum / norm;
 }
 
-glm::vec3 hsv(float h, float s, float v) {
-    h = h - std::floor(h);
-    const float k[3] = {5.0f, 3.0f, 1.0f};
-    glm::vec3 c;
-    for (int i = 0; i < 3; ++i) {
-        const float t = std::fmod(k[i] + h * 6.0f, 6.0f);
-        c[i] = v - v * s * std::clamp(std::min(t, 4.0f - t), 0.0f, 1.0f);
-    }
-    return c;
-}
-
 Albedo plain(glm::vec3 colour, float mottle, double feature, uint64_t seed) {
     return [=](const glm::dvec3& p, const glm::dvec3&) {
         const float n = fbm(p / feature, 3, seed) - 0.5f;

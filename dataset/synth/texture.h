@@ -4,13 +4,14 @@
 // pure function of the local point, so a shape's texture moves with it.
 #include <cstdint>
 
+#include "dataset/report/palette.h"
 #include "dataset/synth/shape.h"
 
 namespace pg::data::synth {
 
 float value_noise(const glm::dvec3& p, uint64_t seed);          // smooth, in [0, 1]
 float fbm(const glm::dvec3& p, int octaves, uint64_t seed);     // sum of octaves, in [0, 1]
-glm::vec3 hsv(float h, float s, float v);                       // h in turns
+using report::hsv;                                              // h in turns (dataset/report/palette.h)
 
 // A flat colour mottled by low-frequency noise of the given feature size.
 Albedo plain(glm::vec3 colour, float mottle = 0.06f, double feature = 0.05, uint64_t seed = 1);

@@ -5,10 +5,10 @@
 #include <nlohmann/json.hpp>
 
 #include "dataset/atomic_file.h"
-#include "dataset/camera_io.h"
 #include "dataset/error.h"
-#include "dataset/image_io.h"
-#include "dataset/scene_io.h"
+#include "dataset/formats/camera_io.h"
+#include "dataset/formats/image_io.h"
+#include "dataset/formats/scene_io.h"
 #include "dataset/synth/synth.h"
 
 namespace pg::data::synth {

@@ -16,8 +16,8 @@
 #include <glm/glm.hpp>
 
 #include "dataset/random.h"
+#include "dataset/roi_frame.h"
 #include "dataset/train/click_weights.h"
-#include "dataset/train/roi_frame.h"
 #include "dataset/train/train_scene.h"
 
 namespace pg::data::train {

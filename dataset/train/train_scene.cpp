@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "dataset/camera_io.h"
 #include "dataset/error.h"
 #include "dataset/eval/suite_info.h"
-#include "dataset/scene_io.h"
+#include "dataset/formats/camera_io.h"
+#include "dataset/formats/scene_io.h"
 #include "dataset/up_axis.h"
 
 namespace pg::data::train {

@@ -9,7 +9,7 @@
 
 #include <glm/glm.hpp>
 
-#include "dataset/train/roi_frame.h"
+#include "dataset/roi_frame.h"
 
 namespace pg::seg {
 
@@ -18,7 +18,7 @@ struct DecoderBatch {
     std::vector<glm::vec3> coords;     // their centres
     std::vector<glm::vec2> features;   // positive and negative click weights
     std::vector<int32_t> click_gaussians;  // Gaussians hit by the object's positive clicks (-1: 3D click)
-    data::train::RoiFrame frame;       // the object's frame: first positive anchor, scene up, object scale
+    data::RoiFrame frame;       // the object's frame: first positive anchor, scene up, object scale
 };
 
 class Decoder {

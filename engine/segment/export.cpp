@@ -5,8 +5,8 @@
 
 #include "dataset/cloud_select.h"
 #include "dataset/error.h"
-#include "dataset/image_io.h"
-#include "dataset/scene_io.h"
+#include "dataset/formats/image_io.h"
+#include "dataset/formats/scene_io.h"
 
 namespace pg::seg {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "dataset/synth/contact_sheet.h"
+#include "dataset/report/palette.h"
 #include "shaders/segment/picture_shared.h"
 
 namespace pg::seg {
@@ -15,7 +15,7 @@ std::vector<uint16_t> ViewMask::mask16() const {
 }
 
 glm::vec3 ViewMask::default_colour(uint32_t label) {
-    return glm::vec3(data::synth::mask_colour(uint16_t(std::min<uint32_t>(label, 65535u)))) / 255.0f;
+    return glm::vec3(data::report::mask_colour(uint16_t(std::min<uint32_t>(label, 65535u)))) / 255.0f;
 }
 
 std::vector<uint8_t> ViewMask::overlay(const std::function<glm::vec3(uint32_t)>& colour) const {

@@ -72,8 +72,8 @@ PromptEncoder::PromptEncoder(vk::Context& ctx)
 
 EncodedPrompt PromptEncoder::encode(const render::GpuScene& scene, const std::vector<Anchor>& anchors, double sigma,
                                     const RoiBox& roi) {
-    if (!(sigma > 0)) throw data::InputError("--sigma", "must be positive");
-    if (!(roi.length > 0 && roi.width > 0)) throw data::InputError("--roi", "length and width must be positive");
+    if (!(sigma > 0)) throw data::InputError("sigma", "must be positive");
+    if (!(roi.length > 0 && roi.width > 0)) throw data::InputError("roi", "length and width must be positive");
     const uint32_t n = scene.size();
     std::vector<glm::vec4> a;
     for (auto& anchor : anchors) a.push_back(glm::vec4(glm::vec3(anchor.position), anchor.positive ? 1.0f : -1.0f));

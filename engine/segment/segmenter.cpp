@@ -82,7 +82,7 @@ Anchor Segmenter::anchor_for(const data::PromptClick& click, const render::Rende
 
 SegmentResult Segmenter::segment(const data::Prompts& prompts, const SegmentOptions& o) {
     if (o.graph != GraphUse::Alone && !decoder_)
-        throw data::InputError("--decoder", std::string(graph_use_name(o.graph)) + " needs a network model");
+        throw data::InputError("decoder", std::string(graph_use_name(o.graph)) + " needs a network model");
     SegmentResult result;
     std::vector<std::vector<uint32_t>> rois;
     std::vector<std::vector<float>> probabilities;
@@ -158,7 +158,7 @@ void Segmenter::prepare(const data::ObjectPrompt& prompt, size_t index, const Se
     roi_probability.assign(roi.size(), 0.0f);
     for (const auto& batch_slots : batches) {
         DecoderBatch batch;
-        batch.frame = data::train::RoiFrame::around(first.position, o.up, scale);
+        batch.frame = data::RoiFrame::around(first.position, o.up, scale);
         for (auto& a : obj.anchors)
             if (a.positive) batch.click_gaussians.push_back(a.gaussian);
         batch.gaussians.reserve(batch_slots.size());

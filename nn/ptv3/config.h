@@ -21,7 +21,7 @@ struct Ptv3Config {
     double qk_scale = 0;  // 0: head_dim^-0.5
     double grid_size = 0.02;
     // Coordinates the network expects: "world" (as given, e.g. metres: converted Pointcept
-    // checkpoints) or "roi" (dataset/train/roi_frame.h: centred on the first click, z up, in
+    // checkpoints) or "roi" (dataset/roi_frame.h: centred on the first click, z up, in
     // units of the object scale; the models `pointgauss train` writes).
     std::string input_frame = "world";
 

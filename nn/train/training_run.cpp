@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "dataset/random.h"
-#include "dataset/train/train_curves.h"
+#include "dataset/report/train_curves.h"
 #include "engine/vk/context.h"
 #include "nn/train/batch.h"
 #include "nn/train/checkpoint.h"
@@ -106,7 +106,7 @@ RunResult run_training(Trainer& trainer, int64_t start, const data::train::Sampl
     auto metadata = [&](int64_t step) { return run_metadata(trainer, drawer, o, step, result.validation); };
     auto finish_log = [&] {
         log.close();
-        data::train::write_train_curves(log_path, curves_path);
+        data::report::write_train_curves(log_path, curves_path);
         result.seconds = seconds_since(t_start);
         return result;
     };

@@ -11,7 +11,7 @@
 
 #include "dataset/atomic_file.h"
 #include "dataset/eval/label_files.h"
-#include "dataset/image_io.h"
+#include "dataset/formats/image_io.h"
 #include "tests/app/cli_run.h"
 #include "tests/test_paths.h"
 

@@ -11,9 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include "dataset/atomic_file.h"
+#include "dataset/formats/image_io.h"
+#include "dataset/formats/scene_io.h"
 #include "dataset/gaussian_cloud.h"
-#include "dataset/image_io.h"
-#include "dataset/scene_io.h"
 #include "tests/app/cli_run.h"
 #include "tests/test_paths.h"
 

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "dataset/atomic_file.h"
-#include "dataset/image_io.h"
+#include "dataset/formats/image_io.h"
 #include "tests/app/cli_run.h"
 #include "tests/test_paths.h"
 

@@ -12,8 +12,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
-#include "dataset/camera_io.h"
 #include "dataset/error.h"
+#include "dataset/formats/camera_io.h"
 #include "tests/test_paths.h"
 
 namespace fs = std::filesystem;

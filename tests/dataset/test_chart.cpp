@@ -1,13 +1,14 @@
-// Line charts (dataset/chart.h): series land where their values say, in their colours; text,
+// Line charts (dataset/report/chart.h): series land where their values say, in their colours; text,
 // legends and empty or non-finite data draw without failing.
 #include <catch2/catch.hpp>
 
 #include <cmath>
 #include <stdexcept>
 
-#include "dataset/chart.h"
+#include "dataset/report/chart.h"
 
 using namespace pg::data;
+using namespace pg::data::report;
 
 namespace {
 

@@ -13,9 +13,9 @@
 #include "dataset/error.h"
 #include "dataset/eval/report.h"
 #include "dataset/eval/suite_eval.h"
+#include "dataset/formats/image_io.h"
+#include "dataset/formats/scene_io.h"
 #include "dataset/gaussian_cloud.h"
-#include "dataset/image_io.h"
-#include "dataset/scene_io.h"
 #include "tests/test_paths.h"
 
 namespace fs = std::filesystem;

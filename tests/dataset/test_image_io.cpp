@@ -7,7 +7,7 @@
 #include <stb/stb_image.h>  // the test target has no stb include path; the library links libstb
 
 #include "dataset/error.h"
-#include "dataset/image_io.h"
+#include "dataset/formats/image_io.h"
 #include "tests/test_paths.h"
 
 namespace fs = std::filesystem;

@@ -10,8 +10,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "dataset/camera_io.h"
 #include "dataset/error.h"
+#include "dataset/formats/camera_io.h"
 #include "tests/test_paths.h"
 
 namespace fs = std::filesystem;

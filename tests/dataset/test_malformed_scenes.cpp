@@ -8,7 +8,7 @@
 #include <string>
 
 #include "dataset/error.h"
-#include "dataset/scene_io.h"
+#include "dataset/formats/scene_io.h"
 #include "tests/test_paths.h"
 
 namespace fs = std::filesystem;

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "dataset/error.h"
+#include "dataset/formats/scene_io.h"
 #include "dataset/gaussian_cloud.h"
-#include "dataset/scene_io.h"
 #include "dataset/scene_stats.h"
 #include "tests/test_paths.h"
 

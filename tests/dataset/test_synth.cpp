@@ -14,15 +14,17 @@
 #include <stb/stb_image.h>
 
 #include "dataset/atomic_file.h"
-#include "dataset/camera_io.h"
 #include "dataset/error.h"
-#include "dataset/scene_io.h"
+#include "dataset/formats/camera_io.h"
+#include "dataset/formats/scene_io.h"
+#include "dataset/report/palette.h"
 #include "dataset/scene_stats.h"
 #include "dataset/synth/contact_sheet.h"
 #include "dataset/synth/synth.h"
 
 namespace fs = std::filesystem;
 using namespace pg::data;
+using namespace pg::data::report;
 using namespace pg::data::synth;
 
 namespace {

@@ -9,15 +9,16 @@
 #include <vector>
 
 #include "dataset/error.h"
+#include "dataset/formats/scene_io.h"
 #include "dataset/random.h"
-#include "dataset/scene_io.h"
-#include "dataset/train/roi_frame.h"
+#include "dataset/roi_frame.h"
 #include "dataset/train/train_scene.h"
 #include "tests/test_paths.h"
 
 namespace fs = std::filesystem;
 using namespace pg::data::train;
 using pg::data::InputError;
+using pg::data::RoiFrame;
 
 namespace {
 

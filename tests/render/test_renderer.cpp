@@ -1,7 +1,7 @@
 // The GPU splat renderer against the CPU reference (tests/reference/cpu_rasterizer.h).
 #include <catch2/catch.hpp>
 
-#include "dataset/scene_io.h"
+#include "dataset/formats/scene_io.h"
 #include "tests/render/render_agreement.h"
 #include "tests/test_paths.h"
 

@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "dataset/image_io.h"
+#include "dataset/formats/image_io.h"
 #include "tests/app/cli_run.h"
 
 namespace pg::test {

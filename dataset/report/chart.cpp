@@ -1,4 +1,4 @@
-#include "dataset/chart.h"
+#include "dataset/report/chart.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include <stb_easy_font.h>
 
-namespace pg::data {
+namespace pg::data::report {
 
 namespace {
 
@@ -155,4 +155,4 @@ Image8 draw_chart(const std::vector<ChartPanel>& panels, int width, int panel_he
     return img;
 }
 
-}  // namespace pg::data
+}  // namespace pg::data::report

@@ -10,7 +10,7 @@
 
 #include "dataset/up_axis.h"
 
-namespace pg::data::train {
+namespace pg::data {
 
 struct RoiFrame {
     glm::dvec3 centre{0.0};
@@ -38,4 +38,4 @@ struct RoiFrame {
     }
 };
 
-}  // namespace pg::data::train
+}  // namespace pg::data

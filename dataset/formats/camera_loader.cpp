@@ -12,9 +12,9 @@
 #include <nlohmann/json.hpp>
 
 #include "dataset/atomic_file.h"
-#include "dataset/camera_import.h"
-#include "dataset/camera_io.h"
 #include "dataset/error.h"
+#include "dataset/formats/camera_import.h"
+#include "dataset/formats/camera_io.h"
 #include "dataset/json_file.h"
 
 namespace pg::data {

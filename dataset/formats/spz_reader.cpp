@@ -23,7 +23,7 @@
 
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
-#include "dataset/scene_io.h"
+#include "dataset/formats/scene_io.h"
 
 namespace pg::data {
 

@@ -1,14 +1,14 @@
-#include "dataset/train/train_curves.h"
+#include "dataset/report/train_curves.h"
 
 #include <fstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
-#include "dataset/chart.h"
-#include "dataset/image_io.h"
+#include "dataset/formats/image_io.h"
+#include "dataset/report/chart.h"
 
-namespace pg::data::train {
+namespace pg::data::report {
 
 namespace {
 
@@ -50,17 +50,17 @@ void write_train_curves(const std::filesystem::path& log, const std::filesystem:
         if (j < lovasz.size() && lovasz[j].first == ce[i].first) ce[i].second -= lovasz[j].second;
     }
     const size_t window = 50;
-    data::ChartPanel losses{"training loss, mean of 50 steps", "", {{"cross-entropy", {200, 60, 40}, running_mean(ce, window)}},
+    ChartPanel losses{"training loss, mean of 50 steps", "", {{"cross-entropy", {200, 60, 40}, running_mean(ce, window)}},
                             0.0, {}};
     if (!lovasz.empty()) losses.series.push_back({"Lovasz", {230, 150, 40}, running_mean(lovasz, window)});
-    data::ChartPanel quality{"validation IoU (held-out samples), training accuracy", "",
+    ChartPanel quality{"validation IoU (held-out samples), training accuracy", "",
                              {{"IoU, 1 click", {40, 90, 200}, iou1, true},
                               {"IoU, 3 clicks", {40, 160, 90}, iou3, true},
                               {"accuracy, mean of 50", {150, 150, 150}, running_mean(accuracy, window)}},
                              0.0, 1.0};
-    data::ChartPanel rate{"learning rate (OneCycle)", "step", {{"", {110, 70, 170}, lr}}, 0.0, {}};
-    const data::Image8 img = data::draw_chart({losses, quality, rate}, 900, 260);
+    ChartPanel rate{"learning rate (OneCycle)", "step", {{"", {110, 70, 170}, lr}}, 0.0, {}};
+    const data::Image8 img = draw_chart({losses, quality, rate}, 900, 260);
     data::write_png8(png, img.width, img.height, img.channels, img.pixels);
 }
 
-}  // namespace pg::data::train
+}  // namespace pg::data::report

@@ -7,8 +7,8 @@
 
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
-#include "dataset/ply_header.h"
-#include "dataset/scene_io.h"
+#include "dataset/formats/ply_header.h"
+#include "dataset/formats/scene_io.h"
 
 namespace pg::data {
 namespace ply {

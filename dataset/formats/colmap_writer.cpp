@@ -7,9 +7,9 @@
 #include <ostream>
 
 #include "dataset/atomic_file.h"
-#include "dataset/camera_import.h"
-#include "dataset/camera_io.h"
 #include "dataset/error.h"
+#include "dataset/formats/camera_import.h"
+#include "dataset/formats/camera_io.h"
 
 namespace pg::data {
 

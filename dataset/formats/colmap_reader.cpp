@@ -10,9 +10,9 @@
 #include <string_view>
 
 #include "dataset/atomic_file.h"
-#include "dataset/camera_import.h"
-#include "dataset/camera_io.h"
 #include "dataset/error.h"
+#include "dataset/formats/camera_import.h"
+#include "dataset/formats/camera_io.h"
 
 namespace pg::data {
 

@@ -1,5 +1,5 @@
 // PNG writer (our own, on zlib: 8- and 16-bit through one path) and reader (stb_image).
-#include "dataset/image_io.h"
+#include "dataset/formats/image_io.h"
 
 #include <algorithm>
 #include <climits>

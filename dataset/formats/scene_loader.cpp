@@ -5,7 +5,7 @@
 #include <fstream>
 
 #include "dataset/error.h"
-#include "dataset/scene_io.h"
+#include "dataset/formats/scene_io.h"
 
 namespace pg::data {
 

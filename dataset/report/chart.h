@@ -9,9 +9,9 @@
 #include <utility>
 #include <vector>
 
-#include "dataset/image_io.h"
+#include "dataset/formats/image_io.h"
 
-namespace pg::data {
+namespace pg::data::report {
 
 struct ChartSeries {
     std::string name;
@@ -30,4 +30,4 @@ struct ChartPanel {
 // their title and empty axes.
 Image8 draw_chart(const std::vector<ChartPanel>& panels, int width = 900, int panel_height = 320);
 
-}  // namespace pg::data
+}  // namespace pg::data::report
