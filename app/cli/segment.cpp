@@ -29,7 +29,7 @@ namespace {
 
 struct SegmentArgs {
     std::string scene, cameras, prompts, out, model, views = "all", mode = "occlusion", up = "cameras";
-    std::string roi, label_property = "instance", decoder = "graph";
+    std::string roi, label_property = "instance", decoder;  // empty: graph, or ptv3+graph when --model is given
     double sigma = 0, scale = 0;
     bool no_refine = false, strict = false;
     seg::GraphOptions graph;
@@ -68,6 +68,8 @@ namespace {
 void run_segment(const SegmentArgs& args) {
     auto total_start = std::chrono::steady_clock::now();
     SegmentArgs a = args;
+    // A model named without a decoder is meant to be used: the network with the graph.
+    if (a.decoder.empty()) a.decoder = a.model.empty() ? "graph" : "ptv3+graph";
     const auto graph_use = seg::parse_graph_use(a.decoder);
     const bool network = graph_use != seg::GraphUse::Alone;
     if (a.model.empty() && network) a.model = default_model_path();
@@ -218,7 +220,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--label-property", a->label_property, "Property the ground-truth decoder reads")
         ->capture_default_str();
     cmd->add_option("--seed", a->seed, "Partition seed")->capture_default_str();
-    cmd->add_option("--decoder", a->decoder, "ptv3, graph (random walk on the kNN graph, no network) or ptv3+graph (the network's probabilities as the walk's unary terms)")->capture_default_str();
+    cmd->add_option("--decoder", a->decoder, "ptv3, graph (random walk on the kNN graph, no network) or ptv3+graph (the network's probabilities as the walk's unary terms); default graph, or ptv3+graph when --model is given");
     cmd->add_flag("--strict", a->strict, "Any object that fails stops the run (exit 1, nothing written); by default it is left out, the others are written and the exit code is 2");
     cmd->add_option("--graph-k", a->graph.k, "Graph: neighbours per Gaussian (1-16)")->capture_default_str();
     cmd->add_option("--graph-colour", a->graph.colour, "Graph: colour contrast beta_c in exp(-beta_c |drgb|^2)")->capture_default_str();
