@@ -10,9 +10,10 @@
 
 namespace pg::seg {
 
+using gpu::graph_groups;
+
 namespace {
 
-uint32_t groups(uint64_t n) { return uint32_t((n + gpu::kGraphGroup - 1) / gpu::kGraphGroup); }
 
 uint32_t bits_for(uint32_t cells) {
     uint32_t b = 0;
@@ -108,18 +109,18 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
 
     cmd_.begin_pass("graph nodes");
     cmd_.dispatch("segment/graph_nodes", {scene.means, scene.shapes, scene.sh, domain_buf_, pos_, colour_, normal_},
-                  nodes_push, groups(n));
+                  nodes_push, graph_groups(n));
     cmd_.begin_pass("graph cells");
-    cmd_.dispatch("segment/graph_cells", {pos_, keys_, values_}, grid, groups(n));
+    cmd_.dispatch("segment/graph_cells", {pos_, keys_, values_}, grid, graph_groups(n));
     sort_.sort(cmd_, keys_, values_, n, std::max(1u, bits.x + bits.y + bits.z), sort::KeyWidth::Bits32);
     cmd_.begin_pass("graph knn");
-    cmd_.dispatch("segment/graph_knn", {pos_, keys_, values_, nbr_, dist_, spacing_}, grid, groups(n));
+    cmd_.dispatch("segment/graph_knn", {pos_, keys_, values_, nbr_, dist_, spacing_}, grid, graph_groups(n));
     cmd_.begin_pass("graph weights");
-    cmd_.dispatch("segment/graph_weights", {pos_, colour_, normal_, nbr_, dist_, spacing_, weight_}, wpush, groups(nk));
+    cmd_.dispatch("segment/graph_weights", {pos_, colour_, normal_, nbr_, dist_, spacing_, weight_}, wpush, graph_groups(nk));
     cmd_.begin_pass("graph adjacency");
-    cmd_.dispatch("segment/graph_edge_keys", {nbr_, keys_, values_}, epush, groups(entries));
+    cmd_.dispatch("segment/graph_edge_keys", {nbr_, keys_, values_}, epush, graph_groups(entries));
     sort_.sort(cmd_, keys_, values_, uint32_t(entries), bits_for(n + 1), sort::KeyWidth::Bits32);
-    cmd_.dispatch("segment/graph_rows", {keys_, values_, nbr_, weight_, rows_, degree_}, epush, groups(uint64_t(n) + 1));
+    cmd_.dispatch("segment/graph_rows", {keys_, values_, nbr_, weight_, rows_, degree_}, epush, graph_groups(uint64_t(n) + 1));
     cmd_.end_pass();
     cmd_.submit_and_wait();
     timings_ = cmd_.timings();
