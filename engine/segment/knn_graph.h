@@ -1,7 +1,7 @@
 #pragma once
 // The graph decoder's graph on the GPU: the k nearest neighbours of every Gaussian of a domain
 // (a uniform grid over the domain's robust bounds, cell side a multiple of the median spacing,
-// the 27 surrounding cells searched), an affinity per edge from colour, distance relative to
+// the 27 surrounding cells searched, further shells for a node short of k), an affinity per edge from colour, distance relative to
 // the local spacing, normals of the flattest axes and opacity, and the symmetric adjacency
 // W + W^T as rows of edge ids with each node's degree.
 #include <cstdint>

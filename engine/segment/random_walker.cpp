@@ -34,7 +34,6 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
     if (n == 0 || total == 0) return out;
 
     const uint32_t node_groups = graph_groups(n);
-    constexpr uint32_t width = gpu::kWalkMaxLabels;
     std::vector<float> gamma = pr.gamma.empty() ? std::vector<float>(n, 0.0f) : pr.gamma;
     seed_.ensure(uint64_t(n) * 4);
     gamma_.ensure(uint64_t(n) * 4);
@@ -42,15 +41,19 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
     vk::upload(ctx_, gamma_, gamma.data(), uint64_t(n) * 4);
     inv_diag_.ensure(uint64_t(n) * 4);
     edges_.ensure(2ull * n * graph.k() * 8);
-    const uint64_t bytes = uint64_t(n) * width * 4;
-    for (auto* b : {&prior_, &x_, &b_, &r_, &z_, &p_, &ap_}) b->ensure(bytes);
-    partials_.ensure(uint64_t(node_groups) * width * 4);
-    scalars_.ensure(uint64_t(width) * sizeof(gpu::WalkScalars));
+    const uint32_t most = std::min(total, gpu::kWalkMaxLabels);
+    const uint32_t most_width = (most + 3) / 4 * 4;
+    for (auto* b : {&prior_, &x_, &b_, &r_, &z_, &p_, &ap_}) b->ensure(uint64_t(n) * most_width * 4);
+    partials_.ensure(uint64_t(node_groups) * gpu::kWalkMaxLabels * 4);
+    scalars_.ensure(uint64_t(gpu::kWalkMaxLabels) * sizeof(gpu::WalkScalars));
     timings_.clear();
 
-    for (uint32_t base = 0; base < total; base += width) {
-        const uint32_t labels = std::min(width, total - base);
-        // This solve's columns, `width` per node; columns past the labels stay 0.
+    for (uint32_t base = 0; base < total; base += gpu::kWalkMaxLabels) {
+        const uint32_t labels = std::min(gpu::kWalkMaxLabels, total - base);
+        // This solve's columns, `width` per node (the labels rounded up to vec4s; the rest stay 0):
+        // the passes' memory traffic follows the labels in use.
+        const uint32_t width = (labels + 3) / 4 * 4;
+        const uint64_t bytes = uint64_t(n) * width * 4;
         auto columns = [&](const std::vector<float>& from) {
             std::vector<float> c(size_t(n) * width, 0.0f);
             if (!from.empty())
@@ -70,7 +73,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
         const auto& nbr = graph.neighbour_buffer();
         const auto& w = graph.weight_buffer();
         const auto& deg = graph.degree_buffer();
-        const uint32_t reduce_groups = gpu::kWalkVecs;
+        const uint32_t reduce_groups = width / 4;
         cmd_.begin_pass("walk start");
         cmd_.dispatch("segment/walk_rhs", {rows, entries, nbr, w, deg, seed_, gamma_, prior_, x_, b_, inv_diag_},
                       push[0], node_groups);

@@ -1,7 +1,9 @@
 #version 450
 // k nearest neighbours of every node among the nodes of its own and the 26 surrounding grid
 // cells (exact within one cell side), nearest first, and the node's local spacing (the mean
-// distance to them). A cell's nodes are found by a binary search in the sorted cell keys.
+// distance to them). A node with fewer than k there searches further shells of cells, up to
+// kGraphMaxRing: sparse Gaussians (large ones, floaters, thin parts) would otherwise be islands
+// no seed reaches. A cell's nodes are found by a binary search in the sorted cell keys.
 #extension GL_GOOGLE_include_directive : require
 #include "common/dispatch.glsl"
 #include "segment/graph_shared.h"
@@ -35,31 +37,34 @@ void main() {
     uint best_j[kGraphMaxK];
     for (uint t = 0u; t < kGraphMaxK; ++t) best_d[t] = 3.4e38, best_j[t] = kGraphNone;
     uint found = 0u;
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                ivec3 q = c + ivec3(dx, dy, dz);
-                if (any(lessThan(q, ivec3(0))) || any(greaterThanEqual(q, ivec3(pc.dims.xyz)))) continue;
-                uint key = cell_key(q, pc.bits);
-                for (uint s = lower_bound(key, n); s < n && keys[s] == key; ++s) {
-                    uint j = values[s];
-                    if (j == i) continue;
-                    vec3 d = pos[j].xyz - p;
-                    float d2 = dot(d, d);
-                    // Ties go to the smaller node id, so the result does not depend on the scan order.
-                    uint last = k - 1u;
-                    if (d2 > best_d[last] || (d2 == best_d[last] && j >= best_j[last])) continue;
-                    uint t = last;
-                    while (t > 0u && (d2 < best_d[t - 1u] || (d2 == best_d[t - 1u] && j < best_j[t - 1u]))) {
-                        best_d[t] = best_d[t - 1u];
-                        best_j[t] = best_j[t - 1u];
-                        --t;
+    for (int ring = 0; ring <= int(kGraphMaxRing) && (ring <= 1 || found < k); ++ring)
+        for (int dz = -ring; dz <= ring; ++dz)
+            for (int dy = -ring; dy <= ring; ++dy)
+                for (int dx = -ring; dx <= ring; ++dx) {
+                    // Ring 0 is the node's cell, ring r the shell of cells r steps away.
+                    if (max(abs(dx), max(abs(dy), abs(dz))) != ring) continue;
+                    ivec3 q = c + ivec3(dx, dy, dz);
+                    if (any(lessThan(q, ivec3(0))) || any(greaterThanEqual(q, ivec3(pc.dims.xyz)))) continue;
+                    uint key = cell_key(q, pc.bits);
+                    for (uint s = lower_bound(key, n); s < n && keys[s] == key; ++s) {
+                        uint j = values[s];
+                        if (j == i) continue;
+                        vec3 d = pos[j].xyz - p;
+                        float d2 = dot(d, d);
+                        // Ties go to the smaller node id, so the result does not depend on the scan order.
+                        uint last = k - 1u;
+                        if (d2 > best_d[last] || (d2 == best_d[last] && j >= best_j[last])) continue;
+                        uint t = last;
+                        while (t > 0u && (d2 < best_d[t - 1u] || (d2 == best_d[t - 1u] && j < best_j[t - 1u]))) {
+                            best_d[t] = best_d[t - 1u];
+                            best_j[t] = best_j[t - 1u];
+                            --t;
+                        }
+                        best_d[t] = d2;
+                        best_j[t] = j;
+                        found = min(found + 1u, k);
                     }
-                    best_d[t] = d2;
-                    best_j[t] = j;
-                    found = min(found + 1u, k);
                 }
-            }
     float sum = 0.0;
     for (uint t = 0u; t < k; ++t) {
         bool ok = t < found;

@@ -19,8 +19,9 @@ using uint = uint32_t;
 PG_GRAPH_CONST uint kGraphGroup = 256;
 PG_GRAPH_CONST uint kGraphMaxK = 16;         // neighbours kept per node (the k option <= this)
 PG_GRAPH_CONST uint kGraphNone = 0xFFFFFFFFu;  // an empty neighbour slot
+PG_GRAPH_CONST uint kGraphMaxRing = 4;       // shells of cells a node short of k neighbours searches
 PG_GRAPH_CONST uint kWalkMaxLabels = 16;     // label columns of one solve (more run as several)
-PG_GRAPH_CONST uint kWalkVecs = kWalkMaxLabels / 4;  // a node's columns as vec4s (unused ones stay 0)
+PG_GRAPH_CONST uint kWalkVecs = kWalkMaxLabels / 4;  // most vec4s per node (a solve uses ceil(labels / 4))
 PG_GRAPH_CONST int kWalkFree = -1;           // a node that is no seed
 
 // graph_nodes: the domain's Gaussians gathered into node attributes.
@@ -47,8 +48,8 @@ struct GraphEdgesPush {
     uvec4 size;  // x: nodes, y: k, z: entries (2 n k), w: unused
 };
 
-// walk_*: the random walker's preconditioned conjugate gradient over kWalkMaxLabels columns
-// (a node's values are kWalkVecs vec4s, fixed-size loops the compiler keeps in registers).
+// walk_*: the random walker's preconditioned conjugate gradient over up to kWalkMaxLabels
+// columns (a node's values are ceil(labels / 4) vec4s, in arrays of kWalkVecs in registers).
 struct WalkPush {
     uvec4 size;  // x: nodes, y: k, z: labels in use, w: workgroups of the node passes
     uvec4 mode;  // x: walk_apply 1 = also partial dots v . Av; walk_residual / walk_reduce 0 r.z,

@@ -18,21 +18,22 @@ layout(push_constant) uniform Push { WalkPush pc; };
 #include "segment/walk_common.glsl"
 
 void main() {
+    uint vecs = WALK_VECS;
     uint i = pg_global_index();
     uint n = pc.size.x;
     vec4 acc[kWalkVecs], dots[kWalkVecs];
     for (uint c = 0u; c < kWalkVecs; ++c) acc[c] = vec4(0.0), dots[c] = vec4(0.0);
     if (i < n && seed[i] == kWalkFree) {
         float diag = degree[i] + gamma[i];
-        for (uint c = 0u; c < kWalkVecs; ++c) acc[c] = diag * v[i * kWalkVecs + c];
+        for (uint c = 0u; c < vecs; ++c) acc[c] = diag * v[i * vecs + c];
         for (uint s = rows[i]; s < rows[i + 1u]; ++s) {
             uvec2 e = edges[s];
             float w = uintBitsToFloat(e.y);
-            for (uint c = 0u; c < kWalkVecs; ++c) acc[c] -= w * v[e.x * kWalkVecs + c];
+            for (uint c = 0u; c < vecs; ++c) acc[c] -= w * v[e.x * vecs + c];
         }
-        for (uint c = 0u; c < kWalkVecs; ++c) dots[c] = acc[c] * v[i * kWalkVecs + c];
+        for (uint c = 0u; c < vecs; ++c) dots[c] = acc[c] * v[i * vecs + c];
     }
     if (i < n)
-        for (uint c = 0u; c < kWalkVecs; ++c) y[i * kWalkVecs + c] = acc[c];
+        for (uint c = 0u; c < vecs; ++c) y[i * vecs + c] = acc[c];
     if (pc.mode.x == 1u) WALK_STORE_PARTIALS(dots, partials);
 }

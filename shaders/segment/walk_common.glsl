@@ -1,7 +1,10 @@
-// Shared by the random walker's node passes: a node's label columns as kWalkVecs vec4s, and the
+// Shared by the random walker's node passes: a node's label columns as WALK_VECS vec4s (as few
+// as the solve's labels need: the passes' memory traffic follows the labels), and the
 // per-workgroup partial dot products (one per column) that walk_reduce sums.
 #ifndef PG_WALK_COMMON_GLSL
 #define PG_WALK_COMMON_GLSL
+// vec4s per node in the column buffers (requires the WalkPush as pc); at most kWalkVecs.
+#define WALK_VECS ((pc.size.z + 3u) / 4u)
 shared vec4 s_dot[kWalkVecs][kGraphGroup];
 
 // Every invocation of the group calls this (barriers inside) with its node's terms (0 if none);

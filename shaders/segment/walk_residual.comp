@@ -17,13 +17,14 @@ layout(push_constant) uniform Push { WalkPush pc; };
 #include "segment/walk_common.glsl"
 
 void main() {
+    uint vecs = WALK_VECS;
     uint i = pg_global_index();
     vec4 dots[kWalkVecs];
     for (uint c = 0u; c < kWalkVecs; ++c) dots[c] = vec4(0.0);
     if (i < pc.size.x) {
         float m = inv_diag[i];
-        for (uint c = 0u; c < kWalkVecs; ++c) {
-            uint at = i * kWalkVecs + c;
+        for (uint c = 0u; c < vecs; ++c) {
+            uint at = i * vecs + c;
             vec4 ri = m > 0.0 ? b[at] - ax[at] : vec4(0.0);
             vec4 zi = m * ri;
             r[at] = ri;

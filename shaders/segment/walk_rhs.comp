@@ -1,6 +1,6 @@
 #version 450
 // The random walker's right-hand side and starting point for the label columns [base, base +
-// kWalkMaxLabels): an unknown node gets b = gamma q + sum over seed neighbours w [seed label];
+// labels): an unknown node gets b = gamma q + sum over seed neighbours w [seed label];
 // a seed holds its label's indicator in x and takes no part in the solve (b = 0, 1/diag = 0).
 // The operator's diagonal is degree + gamma; an isolated node without unary stays as it was.
 #extension GL_GOOGLE_include_directive : require
@@ -16,11 +16,12 @@ layout(std430, binding = 3) readonly buffer Weight { float weight[]; };
 layout(std430, binding = 4) readonly buffer Degree { float degree[]; };
 layout(std430, binding = 5) readonly buffer Seed { int seed[]; };       // label, or kWalkFree
 layout(std430, binding = 6) readonly buffer Gamma { float gamma[]; };   // unary strength
-layout(std430, binding = 7) readonly buffer Prior { vec4 prior[]; };    // kWalkVecs per node
+layout(std430, binding = 7) readonly buffer Prior { vec4 prior[]; };    // WALK_VECS per node
 layout(std430, binding = 8) buffer X { vec4 x[]; };                     // start, then solution
 layout(std430, binding = 9) writeonly buffer B { vec4 b[]; };
 layout(std430, binding = 10) writeonly buffer InvDiag { float inv_diag[]; };
 layout(push_constant) uniform Push { WalkPush pc; };
+#include "segment/walk_common.glsl"
 
 // The indicator of `label` over this solve's columns.
 vec4 indicator(int label, uint c) {
@@ -29,29 +30,30 @@ vec4 indicator(int label, uint c) {
 }
 
 void main() {
+    uint vecs = WALK_VECS;
     uint i = pg_global_index();
     uint n = pc.size.x, k = pc.size.y;
     if (i >= n) return;
     int own = seed[i];
     if (own != kWalkFree) {
-        for (uint c = 0u; c < kWalkVecs; ++c) {
-            x[i * kWalkVecs + c] = indicator(own, c);
-            b[i * kWalkVecs + c] = vec4(0.0);
+        for (uint c = 0u; c < vecs; ++c) {
+            x[i * vecs + c] = indicator(own, c);
+            b[i * vecs + c] = vec4(0.0);
         }
         inv_diag[i] = 0.0;
         return;
     }
     vec4 acc[kWalkVecs];
-    for (uint c = 0u; c < kWalkVecs; ++c) acc[c] = gamma[i] * prior[i * kWalkVecs + c];
+    for (uint c = 0u; c < vecs; ++c) acc[c] = gamma[i] * prior[i * vecs + c];
     uint half_ = n * k;
     for (uint s = rows[i]; s < rows[i + 1u]; ++s) {
         uint e = values[s];
         int other = seed[EDGE_COLUMN(e, half_, k)];
         if (other == kWalkFree) continue;
         float w = weight[edge_slot(e, half_)];
-        for (uint c = 0u; c < kWalkVecs; ++c) acc[c] += w * indicator(other, c);
+        for (uint c = 0u; c < vecs; ++c) acc[c] += w * indicator(other, c);
     }
-    for (uint c = 0u; c < kWalkVecs; ++c) b[i * kWalkVecs + c] = acc[c];
+    for (uint c = 0u; c < vecs; ++c) b[i * vecs + c] = acc[c];
     float diag = degree[i] + gamma[i];
     inv_diag[i] = diag > 0.0 ? 1.0 / diag : 0.0;
 }

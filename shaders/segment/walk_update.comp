@@ -17,13 +17,14 @@ layout(push_constant) uniform Push { WalkPush pc; };
 #include "segment/walk_common.glsl"
 
 void main() {
+    uint vecs = WALK_VECS;
     uint i = pg_global_index();
     vec4 dots[kWalkVecs];
     for (uint c = 0u; c < kWalkVecs; ++c) dots[c] = vec4(0.0);
     if (i < pc.size.x) {
         float m = inv_diag[i];
-        for (uint c = 0u; c < kWalkVecs; ++c) {
-            uint at = i * kWalkVecs + c;
+        for (uint c = 0u; c < vecs; ++c) {
+            uint at = i * vecs + c;
             vec4 alpha = vec4(scalars[4u * c].value.y, scalars[4u * c + 1u].value.y, scalars[4u * c + 2u].value.y,
                               scalars[4u * c + 3u].value.y);
             x[at] += alpha * p[at];

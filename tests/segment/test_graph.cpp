@@ -10,6 +10,7 @@
 #include "engine/segment/knn_graph.h"
 #include "engine/segment/random_walker.h"
 #include "engine/segment/segmenter.h"
+#include "shaders/segment/graph_shared.h"
 #include "tests/gpu_fixture.h"
 #include "tests/reference/graph_ref.h"
 #include "tests/reference/test_scenes.h"
@@ -62,6 +63,15 @@ TEST_CASE("graph: k nearest neighbours and affinities match a brute-force CPU se
     }
     CHECK(compared > domain.size() / 4);
     CHECK(weight_checks > domain.size());
+    // A sparse node (short of k within one cell side) searches further: it is never an island
+    // while another node lies within kGraphMaxRing cell sides, and its nearest is exact.
+    size_t isolated_in_27_cells = 0;
+    for (size_t i = 0; i < domain.size(); ++i) {
+        if (exact[i] || unbounded.distances[i * k] > graph.cell_side() * (seg::gpu::kGraphMaxRing - 0.01f)) continue;
+        isolated_in_27_cells += unbounded.distances[i * k] > graph.cell_side() * 1.01f;
+        CHECK(got[i * k] == unbounded.neighbours[i * k]);
+    }
+    CHECK(isolated_in_27_cells > 0);
     // Every weight is an affinity in (0, 1].
     for (float w : weights) CHECK((w >= 0.0f && w <= 1.0f));
 
