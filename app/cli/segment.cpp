@@ -30,6 +30,7 @@ namespace {
 struct SegmentArgs {
     std::string scene, cameras, prompts, out, model, views = "all", mode = "occlusion", up = "cameras";
     std::string roi, label_property = "instance", decoder;  // empty: graph, or ptv3+graph when --model is given
+    std::string solver = "forest";
     double sigma = 0, scale = 0;
     bool no_refine = false, strict = false;
     seg::GraphOptions graph;
@@ -71,6 +72,7 @@ void run_segment(const SegmentArgs& args) {
     // A model named without a decoder is meant to be used: the network with the graph.
     if (a.decoder.empty()) a.decoder = a.model.empty() ? "graph" : "ptv3+graph";
     const auto graph_use = seg::parse_graph_use(a.decoder);
+    const auto solver = seg::parse_graph_solver(a.solver);
     const bool network = graph_use != seg::GraphUse::Alone;
     if (a.model.empty() && network) a.model = default_model_path();
     if (a.model.empty() && network)
@@ -99,6 +101,7 @@ void run_segment(const SegmentArgs& args) {
     o.unary_confidence = a.unary_confidence;
     o.coarse_stride = a.coarse;
     o.graph_margin = a.margin;
+    o.solver = solver;
     if (!a.roi.empty()) parse_roi(a.roi, o.roi_length, o.roi_width);
     auto gt = cloud.int_property(a.label_property);
     if (network && ground_truth && !gt)
@@ -139,7 +142,7 @@ void run_segment(const SegmentArgs& args) {
                         (decoder ? " (" + decoder->name() + ")" : std::string());
     if (result.graph) {
         auto& g = *result.graph;
-        report["graph"] = {{"nodes", g.nodes},         {"seeds", g.seeds},         {"unreached", g.unreached}, {"unreached_components", g.unreached_components},
+        report["graph"] = {{"solver", seg::graph_solver_name(g.solver)}, {"nodes", g.nodes},         {"seeds", g.seeds},         {"unreached", g.unreached}, {"unreached_components", g.unreached_components},
                            {"iterations", g.iterations}, {"residual", g.residual}, {"cell", g.cell},
                            {"spacing", g.spacing},     {"k", o.graph_options.k}};
     }
@@ -222,6 +225,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--seed", a->seed, "Partition seed")->capture_default_str();
     cmd->add_option("--decoder", a->decoder, "ptv3, graph (random walk on the kNN graph, no network) or ptv3+graph (the network's probabilities as the walk's unary terms); default graph, or ptv3+graph when --model is given");
     cmd->add_flag("--strict", a->strict, "Any object that fails stops the run (exit 1, nothing written); by default it is left out, the others are written and the exit code is 2");
+    cmd->add_option("--graph-solver", a->solver, "Graph: forest (each Gaussian takes the label of the seed it reaches by the widest path) or walk (random-walk probabilities)")->capture_default_str();
     cmd->add_option("--graph-k", a->graph.k, "Graph: neighbours per Gaussian (1-16)")->capture_default_str();
     cmd->add_option("--graph-colour", a->graph.colour, "Graph: colour contrast beta_c in exp(-beta_c |drgb|^2)")->capture_default_str();
     cmd->add_option("--graph-normal", a->graph.normal, "Graph: normal contrast beta_n")->capture_default_str();

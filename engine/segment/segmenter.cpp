@@ -28,6 +28,14 @@ const char* graph_use_name(GraphUse use) {
     return use == GraphUse::None ? "ptv3" : use == GraphUse::Alone ? "graph" : "ptv3+graph";
 }
 
+GraphSolver parse_graph_solver(const std::string& name, const std::string& option) {
+    if (name == "walk") return GraphSolver::Walk;
+    if (name == "forest") return GraphSolver::Forest;
+    throw data::InputError(option, "expected walk or forest, got '" + name + "'");
+}
+
+const char* graph_solver_name(GraphSolver solver) { return solver == GraphSolver::Walk ? "walk" : "forest"; }
+
 size_t ObjectResult::fallback_clicks() const {
     return size_t(std::count_if(anchors.begin(), anchors.end(), [](auto& a) { return a.fallback; }));
 }
@@ -39,12 +47,12 @@ size_t SegmentResult::failed() const {
 Segmenter::Segmenter(vk::Context& ctx, const data::GaussianCloud& cloud, const render::GpuScene& scene,
                      const std::vector<data::Camera>& cameras, Decoder& decoder)
     : ctx_(ctx), cloud_(cloud), scene_(scene), cameras_(cameras), decoder_(&decoder), renderer_(ctx), encoder_(ctx),
-      graph_(ctx), coarse_graph_(ctx), walker_(ctx) {}
+      graph_(ctx), coarse_graph_(ctx), walker_(ctx), forest_(ctx) {}
 
 Segmenter::Segmenter(vk::Context& ctx, const data::GaussianCloud& cloud, const render::GpuScene& scene,
                      const std::vector<data::Camera>& cameras)
     : ctx_(ctx), cloud_(cloud), scene_(scene), cameras_(cameras), decoder_(nullptr), renderer_(ctx), encoder_(ctx),
-      graph_(ctx), coarse_graph_(ctx), walker_(ctx) {}
+      graph_(ctx), coarse_graph_(ctx), walker_(ctx), forest_(ctx) {}
 
 double Segmenter::scale_from_cameras(const glm::dvec3& target) const {
     if (cameras_.empty()) return 1.0;
@@ -348,6 +356,11 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
             pr.gamma[i] = top >= o.unary_confidence ? o.unary * degree[i] : 0.0f;
         }
     }
+    if (o.solver == GraphSolver::Forest) {
+        solve_forest(o, objects, domain, pr, result);
+        result.stage_ms["graph solve"] += ms_since(t0);
+        return;
+    }
     // Warm start: a label solved before on this graph starts from its last solution.
     std::vector<int> ids(labels, 0);
     for (size_t j = 0; j < m; ++j) ids[j + 1] = objects[j]->id;
@@ -399,6 +412,37 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     }
     result.graph = report;
     result.stage_ms["graph solve"] += ms_since(t0);
+}
+
+void Segmenter::solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
+                             const std::vector<uint32_t>& domain, const WalkProblem& pr, SegmentResult& result) {
+    // The network's confident labels (the walk's unary terms) seed the forest like clicks.
+    const uint32_t nodes = uint32_t(domain.size()), labels = pr.labels;
+    std::vector<int32_t> seed = pr.seed;
+    if (!pr.gamma.empty())
+        for (uint32_t i = 0; i < nodes; ++i)
+            if (seed[i] < 0 && pr.gamma[i] > 0) {
+                const float* q = &pr.prior[size_t(i) * labels];
+                seed[i] = int32_t(std::max_element(q, q + labels) - q);
+            }
+    auto forest = forest_.solve(graph_, seed, o.forest);
+    last_solution_.clear();  // the walk's warm start does not apply to hard labels
+
+    GraphReport report;
+    report.solver = GraphSolver::Forest;
+    report.nodes = nodes;
+    report.seeds = size_t(std::count_if(seed.begin(), seed.end(), [](int32_t s) { return s >= 0; }));
+    report.iterations = forest.rounds;
+    report.residual = forest.converged ? 0.0 : 1.0;
+    report.cell = graph_.cell_side();
+    report.spacing = graph_.median_spacing();
+    WalkProblem seeds_only;
+    seeds_only.labels = labels;
+    seeds_only.seed = std::move(seed);
+    reached_components(graph_, seeds_only, report);
+    for (uint32_t i = 0; i < nodes; ++i)
+        if (forest.label[i] > 0) objects[size_t(forest.label[i]) - 1]->claims.push_back({domain[i], 1.0f});
+    result.graph = report;
 }
 
 void SegmentResult::assemble(size_t gaussian_count) {

@@ -19,6 +19,7 @@
 #include "engine/segment/knn_graph.h"
 #include "engine/segment/prompt_encoder.h"
 #include "engine/segment/random_walker.h"
+#include "engine/segment/seeded_forest.h"
 
 namespace pg::seg {
 
@@ -27,6 +28,12 @@ namespace pg::seg {
 // the objects' ROIs and the margin around them seed the background), or with the network's
 // probabilities as unary terms of the same solve (ptv3+graph).
 enum class GraphUse { None, Alone, Unary };
+
+// How the graph is solved (`--graph-solver`): the random walk's probabilities (walk) or each
+// Gaussian's widest path to a seed (forest, see seeded_forest.h).
+enum class GraphSolver { Walk, Forest };
+GraphSolver parse_graph_solver(const std::string& name, const std::string& option = "--graph-solver");
+const char* graph_solver_name(GraphSolver solver);
 
 // "ptv3", "graph", "ptv3+graph"; InputError naming `option` otherwise.
 GraphUse parse_graph_use(const std::string& name, const std::string& option = "--decoder");
@@ -43,11 +50,13 @@ struct SegmentOptions {
     bool strict = false;          // an object that fails stops the run (InputError) instead of failing alone
     GraphUse graph = GraphUse::None;
     GraphOptions graph_options;
+    GraphSolver solver = GraphSolver::Forest;
     WalkOptions walk;
+    ForestOptions forest;
     double graph_margin = 0.5;    // the solve's domain: the ROI columns widened by this fraction per side
     float unary = 1.0f;           // ptv3+graph: a node's unary strength, in units of its degree,
-    float unary_confidence = 0.97f;
-    uint32_t coarse_stride = 8;   // a first solve on every n-th node starts the fine one (1: none)  // where the network's most likely label has at least this probability
+    float unary_confidence = 0.97f;  // where the network's most likely label has at least this probability
+    uint32_t coarse_stride = 8;   // walk: a first solve on every n-th node starts the fine one (1: none)
 };
 
 struct ObjectResult {
@@ -69,7 +78,8 @@ struct ObjectResult {
 struct GraphReport {
     size_t nodes = 0, seeds = 0;
     size_t unreached = 0, unreached_components = 0;  // Gaussians (and components) with no seed or prior: unlabelled
-    uint32_t iterations = 0;
+    GraphSolver solver = GraphSolver::Walk;
+    uint32_t iterations = 0;     // walk: conjugate-gradient iterations; forest: relaxation rounds
     double residual = 0, cell = 0, spacing = 0;
 };
 
@@ -109,6 +119,9 @@ private:
     void solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                      const std::vector<std::vector<uint32_t>>& rois, const std::vector<std::vector<float>>& probabilities,
                      SegmentResult& result);
+    // The same problem by widest paths: the seeds, plus the network's confident labels.
+    void solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>& objects, const std::vector<uint32_t>& domain,
+                      const WalkProblem& problem, SegmentResult& result);
     // A starting point for the fine solve from the same problem on a subset of the nodes.
     std::vector<float> coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine);
     Anchor anchor_for(const data::PromptClick& click, const render::RenderSettings& settings, const std::string& what);
@@ -122,6 +135,7 @@ private:
     PromptEncoder encoder_;
     KnnGraph graph_, coarse_graph_;
     RandomWalker walker_;
+    SeededForest forest_;
     std::vector<uint32_t> graph_domain_;  // the domain graph_ was built over, and with which options
     GraphOptions graph_built_with_;
     std::map<int, std::vector<float>> last_solution_;  // per label id (0: background), for warm starts

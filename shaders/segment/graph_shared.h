@@ -57,6 +57,17 @@ struct WalkPush {
                  // y: the label of column 0 (seeds hold labels of all columns)
 };
 
+// forest_step: one round of the seeded maximum-spanning-forest relaxation. A node's state is
+// (w, q): w the float bits of its widest path's weakest affinity to a seed, q the node just past
+// that weakest edge (a seed: itself); (0, 0) means no seed reached yet. States compare as (w, q);
+// positive floats order as their bits. The label is q's, resolved on the host from the widest
+// nodes down: q is always strictly wider, so a label never outlives the path it came by, and
+// the labelling is Kruskal's seeded maximum spanning forest's (exactly, for distinct weights).
+PG_GRAPH_CONST float kForestSeedValue = 2.0f;  // above every affinity (those are <= 1)
+struct ForestPush {
+    uvec4 size;  // x: nodes, y: k, z: this round's slot in the change counters, w: unused
+};
+
 // Per-label scalars of the solve (walk_reduce writes, walk_update / walk_direction read).
 struct WalkScalars {
     vec4 value;  // x: r.z, y: alpha, z: beta, w: b.b / diag

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <queue>
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/Sparse>
@@ -116,6 +117,48 @@ std::vector<double> random_walk(const RefGraph& graph, uint32_t labels, const st
     for (size_t i = 0; i < n; ++i)
         for (uint32_t l = 0; l < labels; ++l)
             out[i * labels + l] = seed[i] >= 0 ? (seed[i] == int32_t(l) ? 1.0 : 0.0) : x(unknown_of[i], l);
+    return out;
+}
+
+RefForest seeded_forest(const RefGraph& g, const std::vector<int32_t>& seed) {
+    const uint32_t n = uint32_t(seed.size()), k = g.k;
+    std::vector<uint32_t> edges;
+    for (uint32_t e = 0; e < g.neighbours.size(); ++e)
+        if (g.neighbours[e] < n && g.weights[e] > 0) edges.push_back(e);
+    std::stable_sort(edges.begin(), edges.end(), [&](uint32_t a, uint32_t b) { return g.weights[a] > g.weights[b]; });
+    std::vector<uint32_t> parent(n);
+    std::vector<int32_t> tree_label(seed);
+    for (uint32_t i = 0; i < n; ++i) parent[i] = i;
+    auto root = [&](uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    for (uint32_t e : edges) {
+        uint32_t a = root(e / k), b = root(g.neighbours[e]);
+        if (a == b || (tree_label[a] >= 0 && tree_label[b] >= 0 && tree_label[a] != tree_label[b])) continue;
+        parent[b] = a;
+        if (tree_label[a] < 0) tree_label[a] = tree_label[b];
+    }
+    RefForest out;
+    out.label.resize(n);
+    for (uint32_t i = 0; i < n; ++i) out.label[i] = tree_label[root(i)];
+    // Widest paths from all seeds at once: a max-heap Dijkstra where a path's value is its minimum.
+    std::vector<std::vector<std::pair<uint32_t, float>>> adj(n);
+    for (uint32_t e : edges) {
+        adj[e / k].push_back({g.neighbours[e], g.weights[e]});
+        adj[g.neighbours[e]].push_back({e / k, g.weights[e]});
+    }
+    out.width.assign(n, 0.0f);
+    std::priority_queue<std::pair<float, uint32_t>> heap;
+    for (uint32_t i = 0; i < n; ++i)
+        if (seed[i] >= 0) out.width[i] = 2.0f, heap.push({2.0f, i});
+    while (!heap.empty()) {
+        auto [w, i] = heap.top();
+        heap.pop();
+        if (w < out.width[i]) continue;
+        for (auto [j, ew] : adj[i])
+            if (float v = std::min(w, ew); v > out.width[j] && seed[j] < 0) out.width[j] = v, heap.push({v, j});
+    }
     return out;
 }
 

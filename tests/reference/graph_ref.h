@@ -1,8 +1,8 @@
 #pragma once
 // CPU reference of the graph decoder (engine/segment/knn_graph, random_walker): brute-force k
 // nearest neighbours, the same affinity per edge, the symmetric adjacency W + W^T, and the random
-// walker's linear systems solved in double with Eigen's sparse conjugate gradient. Written for
-// clarity: O(n^2) neighbours, no grid.
+// walker's linear systems solved in double with Eigen's sparse conjugate gradient, the seeded
+// maximum spanning forest by Kruskal. Written for clarity: O(n^2) neighbours, no grid.
 #include <cstdint>
 #include <vector>
 
@@ -35,5 +35,15 @@ RefGraph knn_graph(const std::vector<GraphNode>& nodes, uint32_t k, float radius
 // symmetric graph W + W^T; seeds hold their indicator. Node-major result, labels per node.
 std::vector<double> random_walk(const RefGraph& graph, uint32_t labels, const std::vector<int32_t>& seed,
                                 const std::vector<float>& gamma, const std::vector<float>& prior);
+
+struct RefForest {
+    std::vector<int32_t> label;  // per node, -1 if no seed is reached
+    std::vector<float> width;    // the widest path's weakest affinity (2 at seeds, 0 if unreached)
+};
+
+// The seeded maximum spanning forest by Kruskal: edges of W + W^T from the strongest down, two
+// trees joined unless both hold (different) seeds; a node takes its tree's seed label. The widths
+// come from a separate widest-path search (a Dijkstra on max-min).
+RefForest seeded_forest(const RefGraph& graph, const std::vector<int32_t>& seed);
 
 }  // namespace pg::ref

@@ -132,6 +132,43 @@ TEST_CASE("random walker: the GPU's conjugate gradient matches Eigen's on the sa
     CHECK_THROWS_AS(walker.solve(graph, bad), data::InputError);
 }
 
+TEST_CASE("seeded forest: the GPU's widest-path rounds give Kruskal's seeded maximum spanning forest") {
+    auto scene = ref::random_scene(23, 2000, 0);
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, scene.cloud);
+    seg::KnnGraph graph(ctx);
+    auto domain = all_of(scene.cloud);
+    graph.build(gpu, scene.cloud, domain, seg::GraphOptions{});
+    ref::RefGraph rg;
+    rg.k = graph.k();
+    rg.neighbours = graph.neighbours();
+    rg.weights = graph.weights();
+    seg::SeededForest forest(ctx);
+    ref::Rng rng(6);
+    for (uint32_t labels : {2u, 40u}) {
+        std::vector<int32_t> seed(domain.size(), -1);
+        for (uint32_t l = 0; l < labels; ++l)
+            for (int s = 0; s < 2; ++s) seed[rng.below(uint32_t(domain.size()))] = int32_t(l);
+        auto got = forest.solve(graph, seed);
+        auto want = ref::seeded_forest(rg, seed);
+        INFO("labels " << labels << ", rounds " << got.rounds);
+        CHECK(got.converged);
+        size_t same = 0, reached = 0;
+        for (size_t i = 0; i < domain.size(); ++i) {
+            CHECK(got.width[i] == want.width[i]);
+            CHECK((got.label[i] < 0) == (want.label[i] < 0));
+            same += got.label[i] == want.label[i];
+            reached += want.label[i] >= 0;
+        }
+        // Only a tie of two distinct edges of exactly equal weight may go either way.
+        CHECK(same >= domain.size() * 999 / 1000);
+        CHECK(reached > domain.size() / 2);
+    }
+    std::vector<int32_t> bad(domain.size(), -1);
+    bad[0] = -2;
+    CHECK_THROWS_AS(forest.solve(graph, bad), data::InputError);
+}
+
 namespace {
 
 // Three balls of distinct colours standing apart on a grey floor (y-down world, floor at y = 0).
@@ -193,42 +230,50 @@ TEST_CASE("graph decoder: each object's click takes its own object, unclicked co
     auto& ctx = test::gpu();
     render::GpuScene gpu(ctx, s.cloud);
     seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras);  // no network
-    seg::SegmentOptions o;
-    o.up = {0, -1, 0};
-    o.scale = 0.5;  // ROI columns 1.25 wide around each click
-    o.graph = seg::GraphUse::Alone;
-    // Flat colours on flat colours: the scene's boundaries are its colours (at the default
-    // contrast a single click's walk leaks over the floor: ball IoU 0.6).
-    o.graph_options.colour = 10.0f;
-    data::Prompts p;
-    p.objects.push_back({"left", 1, {point_click({-1.0, -0.51, 0.0})}});
-    p.objects.push_back({"middle", 2, {point_click({0.0, -0.26, -0.25})}});
-    auto r = segmenter.segment(p, o);
-    REQUIRE(r.graph);
-    CHECK(r.failed() == 0);
-    CHECK(iou(r.labels, 1, s.ball, 1) > 0.9);
-    CHECK(iou(r.labels, 2, s.ball, 2) > 0.9);
-    // The floating cluster's component holds no seed: unlabelled, and counted.
-    CHECK(r.graph->unreached_components >= 1);
-    CHECK(r.graph->unreached >= 60);
-    size_t right = 0, floor_labelled = 0, floor = 0;
-    for (size_t i = 0; i < s.ball.size(); ++i) {
-        right += (s.ball[i] == 3 || s.ball[i] == 4) && r.labels[i] != 0;
-        floor += s.ball[i] == 0;
-        floor_labelled += s.ball[i] == 0 && r.labels[i] != 0;
-    }
-    CHECK(right == 0);
-    CHECK(floor_labelled < floor / 20);
-    // The network decoders need a network.
-    o.graph = seg::GraphUse::Unary;
-    CHECK_THROWS_AS(segmenter.segment(p, o), data::InputError);
+    for (auto solver : {seg::GraphSolver::Walk, seg::GraphSolver::Forest})
+        for (float colour : {3.0f, 10.0f}) {
+            // Flat colours on flat colours: the scene's boundaries are its colours. At the
+            // default contrast (3) a single click's walk leaks over the floor (ball IoU 0.3-0.5);
+            // the forest has no such bias towards the many background seeds.
+            if (solver == seg::GraphSolver::Walk && colour == 3.0f) continue;
+            INFO("solver " << seg::graph_solver_name(solver) << ", colour contrast " << colour);
+            seg::SegmentOptions o;
+            o.up = {0, -1, 0};
+            o.scale = 0.5;  // ROI columns 1.25 wide around each click
+            o.graph = seg::GraphUse::Alone;
+            o.solver = solver;
+            o.graph_options.colour = colour;
+            data::Prompts p;
+            p.objects.push_back({"left", 1, {point_click({-1.0, -0.51, 0.0})}});
+            p.objects.push_back({"middle", 2, {point_click({0.0, -0.26, -0.25})}});
+            auto r = segmenter.segment(p, o);
+            REQUIRE(r.graph);
+            CHECK(r.graph->solver == solver);
+            CHECK(r.failed() == 0);
+            CHECK(iou(r.labels, 1, s.ball, 1) > 0.9);
+            CHECK(iou(r.labels, 2, s.ball, 2) > 0.9);
+            // The floating cluster's component holds no seed: unlabelled, and counted.
+            CHECK(r.graph->unreached_components >= 1);
+            CHECK(r.graph->unreached >= 60);
+            size_t right = 0, floor_labelled = 0, floor = 0;
+            for (size_t i = 0; i < s.ball.size(); ++i) {
+                right += (s.ball[i] == 3 || s.ball[i] == 4) && r.labels[i] != 0;
+                floor += s.ball[i] == 0;
+                floor_labelled += s.ball[i] == 0 && r.labels[i] != 0;
+            }
+            CHECK(right == 0);
+            CHECK(floor_labelled < floor / 20);
+            // The network decoders need a network.
+            o.graph = seg::GraphUse::Unary;
+            CHECK_THROWS_AS(segmenter.segment(p, o), data::InputError);
 
-    // A further click reuses the graph and starts from the last solution.
-    o.graph = seg::GraphUse::Alone;
-    p.objects[0].clicks.push_back(point_click({-1.25, -0.26, 0.0}));
-    auto r2 = segmenter.segment(p, o);
-    CHECK(r2.graph->iterations <= r.graph->iterations);
-    CHECK(iou(r2.labels, 1, s.ball, 1) > 0.9);
+            // A further click reuses the graph (the walk starts from its last solution).
+            o.graph = seg::GraphUse::Alone;
+            p.objects[0].clicks.push_back(point_click({-1.25, -0.26, 0.0}));
+            auto r2 = segmenter.segment(p, o);
+            if (solver == seg::GraphSolver::Walk) CHECK(r2.graph->iterations <= r.graph->iterations);
+            CHECK(iou(r2.labels, 1, s.ball, 1) > 0.9);
+        }
 }
 
 TEST_CASE("segmenter: an object whose clicks cannot be lifted fails alone, the others are segmented") {
