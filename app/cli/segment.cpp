@@ -30,12 +30,12 @@ namespace {
 struct SegmentArgs {
     std::string scene, cameras, prompts, out, model, views = "all", mode = "occlusion", up = "cameras";
     std::string roi, label_property = "instance", decoder;  // empty: graph, or ptv3+graph when --model is given
-    std::string solver = "forest";
+    std::string solver = "walk+forest";
     double sigma = 0, scale = 0;
     bool no_refine = false, strict = false;
     seg::GraphOptions graph;
     seg::WalkOptions walk;
-    float unary = 1.0f, unary_confidence = 0.97f;
+    float unary = 1.0f, unary_confidence = 0.97f, walk_sure = 0.7f;
     uint32_t coarse = 8;
     double margin = 0.5;
     uint64_t seed = 1;
@@ -53,7 +53,7 @@ void parse_roi(const std::string& spec, double& length, double& width) {
 }
 
 std::string flag_for(const std::string& where) {
-    for (const char* p : {"sigma", "roi", "decoder"})
+    for (const char* p : {"sigma", "roi", "decoder", "graph-k", "graph-shells"})
         if (where == p) return "--" + where;
     return where;
 }
@@ -102,6 +102,7 @@ void run_segment(const SegmentArgs& args) {
     o.coarse_stride = a.coarse;
     o.graph_margin = a.margin;
     o.solver = solver;
+    o.walk_sure = a.walk_sure;
     if (!a.roi.empty()) parse_roi(a.roi, o.roi_length, o.roi_width);
     auto gt = cloud.int_property(a.label_property);
     if (network && ground_truth && !gt)
@@ -143,7 +144,7 @@ void run_segment(const SegmentArgs& args) {
     if (result.graph) {
         auto& g = *result.graph;
         report["graph"] = {{"solver", seg::graph_solver_name(g.solver)}, {"nodes", g.nodes},         {"seeds", g.seeds},         {"unreached", g.unreached}, {"unreached_components", g.unreached_components},
-                           {"iterations", g.iterations}, {"residual", g.residual}, {"cell", g.cell},
+                           {"iterations", g.iterations}, {"rounds", g.rounds}, {"residual", g.residual}, {"cell", g.cell},
                            {"spacing", g.spacing},     {"k", o.graph_options.k}};
     }
     report["failed"] = failed;
@@ -225,16 +226,19 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--seed", a->seed, "Partition seed")->capture_default_str();
     cmd->add_option("--decoder", a->decoder, "ptv3, graph (random walk on the kNN graph, no network) or ptv3+graph (the network's probabilities as the walk's unary terms); default graph, or ptv3+graph when --model is given");
     cmd->add_flag("--strict", a->strict, "Any object that fails stops the run (exit 1, nothing written); by default it is left out, the others are written and the exit code is 2");
-    cmd->add_option("--graph-solver", a->solver, "Graph: forest (each Gaussian takes the label of the seed it reaches by the widest path) or walk (random-walk probabilities)")->capture_default_str();
+    cmd->add_option("--graph-solver", a->solver, "Graph: walk (random-walk probabilities), forest (each Gaussian takes the label of the seed it reaches by the widest path) or walk+forest (the walk where it is sure, the forest for the rest)")->capture_default_str();
     cmd->add_option("--graph-k", a->graph.k, "Graph: neighbours per Gaussian (1-16)")->capture_default_str();
     cmd->add_option("--graph-colour", a->graph.colour, "Graph: colour contrast beta_c in exp(-beta_c |drgb|^2)")->capture_default_str();
     cmd->add_option("--graph-normal", a->graph.normal, "Graph: normal contrast beta_n")->capture_default_str();
+    cmd->add_option("--graph-shells", a->graph.shells, "Graph: shells of grid cells a Gaussian short of k neighbours searches (1-4; more joins sparse Gaussians, and lets floaters bridge objects)")->capture_default_str();
+    cmd->add_option("--graph-opacity", a->graph.opacity, "Graph: an edge's weight has the factor min(opacity)^this (0: opacity plays no part)")->capture_default_str();
     cmd->add_option("--graph-distance", a->graph.distance, "Graph: distance fall-off in local spacings")->capture_default_str();
     cmd->add_option("--graph-margin", a->margin, "Graph: the solve's domain is the ROIs widened by this fraction per side; what lies in the margin seeds the background")->capture_default_str();
     cmd->add_option("--unary", a->unary, "ptv3+graph: strength of the network's probabilities, in units of a Gaussian's degree")->capture_default_str();
     cmd->add_option("--unary-confidence", a->unary_confidence, "ptv3+graph: the network's probabilities count only where its most likely label reaches this")->capture_default_str();
     cmd->add_option("--walk-iterations", a->walk.max_iterations, "Graph: most conjugate-gradient iterations")->capture_default_str();
     cmd->add_option("--walk-coarse", a->coarse, "Graph: a first solve on every n-th Gaussian starts the full one (1: none)")->capture_default_str();
+    cmd->add_option("--walk-sure", a->walk_sure, "walk+forest: the walk's label stands where its share of the probability reaches this")->capture_default_str();
     cmd->add_option("--walk-tolerance", a->walk.tolerance, "Graph: relative residual to stop at")->capture_default_str();
     add_device_option(*cmd, a->device);
     cmd->callback([a, &run] { run = [a] { run_segment(*a); }; });

@@ -49,9 +49,12 @@ KnnGraph::KnnGraph(vk::Context& ctx) : ctx_(ctx), cmd_(ctx), sort_(ctx) {
 void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& cloud,
                      const std::vector<uint32_t>& domain, const GraphOptions& o) {
     if (o.k < 1 || o.k > gpu::kGraphMaxK)
-        throw data::InputError("graph k", "must be 1.." + std::to_string(gpu::kGraphMaxK) + ", got " + std::to_string(o.k));
-    if (!(o.cell > 0) || !(o.distance > 0) || !(o.colour >= 0) || !(o.normal >= 0))
-        throw data::InputError("graph weights", "cell and distance must be positive, colour and normal >= 0");
+        throw data::InputError("graph-k", "must be 1.." + std::to_string(gpu::kGraphMaxK) + ", got " + std::to_string(o.k));
+    if (o.shells < 1 || o.shells > gpu::kGraphMaxShells)
+        throw data::InputError("graph-shells", "must be 1.." + std::to_string(gpu::kGraphMaxShells) + ", got " +
+                                                   std::to_string(o.shells));
+    if (!(o.cell > 0) || !(o.distance > 0) || !(o.colour >= 0) || !(o.normal >= 0) || !(o.opacity >= 0))
+        throw data::InputError("graph weights", "cell and distance must be positive, colour, normal and opacity >= 0");
     domain_ = domain;
     nodes_ = uint32_t(domain.size());
     k_ = o.k;
@@ -103,8 +106,8 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     degree_.ensure(uint64_t(n) * 4);
 
     gpu::GraphNodesPush nodes_push{{n, scene.sh_floats(), 0, 0}};
-    gpu::GraphGridPush grid{glm::vec4(lo, 1.0f / cell_), glm::uvec4(dims, 0), glm::uvec4(bits.x, bits.y, n, k)};
-    gpu::GraphWeightsPush wpush{glm::vec4(o.colour, o.normal, o.distance, 0), {n, k, 0, 0}};
+    gpu::GraphGridPush grid{glm::vec4(lo, 1.0f / cell_), glm::uvec4(dims, o.shells), glm::uvec4(bits.x, bits.y, n, k)};
+    gpu::GraphWeightsPush wpush{glm::vec4(o.colour, o.normal, o.distance, o.opacity), {n, k, 0, 0}};
     gpu::GraphEdgesPush epush{{n, k, uint32_t(entries), 0}};
 
     cmd_.begin_pass("graph nodes");

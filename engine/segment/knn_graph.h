@@ -1,7 +1,8 @@
 #pragma once
 // The graph decoder's graph on the GPU: the k nearest neighbours of every Gaussian of a domain
 // (a uniform grid over the domain's robust bounds, cell side a multiple of the median spacing,
-// the 27 surrounding cells searched, further shells for a node short of k), an affinity per edge from colour, distance relative to
+// the 27 surrounding cells searched, further shells for a node short of k if asked), an affinity
+// per edge from colour, distance relative to
 // the local spacing, normals of the flattest axes and opacity, and the symmetric adjacency
 // W + W^T as rows of edge ids with each node's degree.
 #include <cstdint>
@@ -20,9 +21,13 @@ namespace pg::seg {
 struct GraphOptions {
     uint32_t k = 10;            // neighbours per node (at most 16)
     float cell = 2.5f;          // grid cell side in median nearest-neighbour distances
+    uint32_t shells = 2;        // shells of cells searched around a node's own; beyond the first only
+                                // by a node short of k (at most kGraphMaxShells). More joins sparse
+                                // Gaussians to the rest, but floaters then bridge objects.
     float colour = 3.0f;        // beta_c: weight exp(-beta_c |rgb_i - rgb_j|^2), rgb in [0, 1]
     float normal = 2.0f;        // beta_n: exp(-beta_n f_i f_j (1 - (n_i . n_j)^2))
     float distance = 1.0f;      // beta_d: exp(-(d / (beta_d s))^2), s the local spacing
+    float opacity = 1.0f;       // beta_o: min(o_i, o_j)^beta_o (0: opacity plays no part)
 };
 
 class KnnGraph {

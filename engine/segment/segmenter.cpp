@@ -31,10 +31,13 @@ const char* graph_use_name(GraphUse use) {
 GraphSolver parse_graph_solver(const std::string& name, const std::string& option) {
     if (name == "walk") return GraphSolver::Walk;
     if (name == "forest") return GraphSolver::Forest;
-    throw data::InputError(option, "expected walk or forest, got '" + name + "'");
+    if (name == "walk+forest") return GraphSolver::WalkForest;
+    throw data::InputError(option, "expected walk, forest or walk+forest, got '" + name + "'");
 }
 
-const char* graph_solver_name(GraphSolver solver) { return solver == GraphSolver::Walk ? "walk" : "forest"; }
+const char* graph_solver_name(GraphSolver solver) {
+    return solver == GraphSolver::Walk ? "walk" : solver == GraphSolver::Forest ? "forest" : "walk+forest";
+}
 
 size_t ObjectResult::fallback_clicks() const {
     return size_t(std::count_if(anchors.begin(), anchors.end(), [](auto& a) { return a.fallback; }));
@@ -300,7 +303,9 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
                             o.graph_options.cell == graph_built_with_.cell &&
                             o.graph_options.colour == graph_built_with_.colour &&
                             o.graph_options.normal == graph_built_with_.normal &&
-                            o.graph_options.distance == graph_built_with_.distance;
+                            o.graph_options.distance == graph_built_with_.distance &&
+                            o.graph_options.opacity == graph_built_with_.opacity &&
+                            o.graph_options.shells == graph_built_with_.shells;
     if (!same_graph) {
         graph_.build(scene_, cloud_, domain, o.graph_options);
         graph_domain_ = domain;
@@ -317,10 +322,24 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     pr.seed.assign(nodes, -1);
     for (uint32_t i = 0; i < nodes; ++i)
         if (!in_roi[i]) pr.seed[i] = 0;
-    for (size_t j = 0; j < m; ++j)
-        for (auto& a : objects[j]->anchors)
-            if (a.gaussian >= 0 && node_of[size_t(a.gaussian)] >= 0)
-                pr.seed[size_t(node_of[size_t(a.gaussian)])] = a.positive ? int32_t(j + 1) : 0;
+    // A click seeds its anchor and the anchor's graph neighbours (about one spacing around it):
+    // a lone anchor may be a faint Gaussian whose every edge is weak, and a seed that weak loses
+    // its whole object to a neighbour's in the forest. Anchors themselves win over neighbours.
+    const auto nbr = graph_.neighbours();
+    const uint32_t k = graph_.k();
+    for (int pass = 0; pass < 2; ++pass)
+        for (size_t j = 0; j < m; ++j)
+            for (auto& a : objects[j]->anchors) {
+                if (a.gaussian < 0 || node_of[size_t(a.gaussian)] < 0) continue;
+                const uint32_t i = uint32_t(node_of[size_t(a.gaussian)]);
+                const int32_t label = a.positive ? int32_t(j + 1) : 0;
+                if (pass == 1) {
+                    pr.seed[i] = label;
+                    continue;
+                }
+                for (uint32_t t = 0; t < k; ++t)
+                    if (uint32_t q = nbr[size_t(i) * k + t]; q < nodes && pr.seed[q] < 0) pr.seed[q] = label;
+            }
     if (o.graph == GraphUse::Unary) {
         // The network's probabilities as a prior: q_j = p_j where object j's ROI holds the node,
         // background = the product of (1 - p_j), normalised; strength `unary` x the node's degree.
@@ -398,17 +417,37 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     // A component of the graph with no seed, prior or coarse start has no answer (its system is
     // singular and keeps whatever it started from): it stays unlabelled and is counted.
     const auto reached = reached_components(graph_, pr, report);
+    // Each reached node's most likely label and its share of the probability.
+    std::vector<int32_t> arg(nodes, -1);
+    std::vector<float> share(nodes, 0.0f);
     for (uint32_t i = 0; i < nodes; ++i) {
         if (!reached[i]) continue;
         const float* x = &solution.x[size_t(i) * labels];
         float sum = 0, best = 0;
-        uint32_t arg = 0;
         for (uint32_t l = 0; l < labels; ++l) {
             float v = std::max(0.0f, x[l]);
             sum += v;
-            if (v > best) best = v, arg = l;
+            if (v > best) best = v, arg[i] = int32_t(l);
         }
-        if (arg > 0 && sum > 0) objects[arg - 1]->claims.push_back({domain[i], best / sum});
+        share[i] = sum > 0 ? best / sum : 0.0f;
+        if (sum <= 0) arg[i] = -1;
+    }
+    if (o.solver == GraphSolver::WalkForest) {
+        // Where the walk is sure it stands; the forest's widest paths settle the rest, without
+        // the walk's pull towards the label with the most seeds.
+        std::vector<int32_t> seed = pr.seed;
+        for (uint32_t i = 0; i < nodes; ++i)
+            if (seed[i] < 0 && arg[i] >= 0 && share[i] >= o.walk_sure) seed[i] = arg[i];
+        auto forest = forest_.solve(graph_, seed, o.forest);
+        report.solver = GraphSolver::WalkForest;
+        report.rounds = forest.rounds;
+        for (uint32_t i = 0; i < nodes; ++i)
+            if (forest.label[i] > 0)
+                objects[size_t(forest.label[i]) - 1]->claims.push_back(
+                    {domain[i], arg[i] == forest.label[i] ? share[i] : 0.5f});
+    } else {
+        for (uint32_t i = 0; i < nodes; ++i)
+            if (arg[i] > 0) objects[size_t(arg[i]) - 1]->claims.push_back({domain[i], share[i]});
     }
     result.graph = report;
     result.stage_ms["graph solve"] += ms_since(t0);
@@ -432,7 +471,7 @@ void Segmenter::solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>
     report.solver = GraphSolver::Forest;
     report.nodes = nodes;
     report.seeds = size_t(std::count_if(seed.begin(), seed.end(), [](int32_t s) { return s >= 0; }));
-    report.iterations = forest.rounds;
+    report.rounds = forest.rounds;
     report.residual = forest.converged ? 0.0 : 1.0;
     report.cell = graph_.cell_side();
     report.spacing = graph_.median_spacing();

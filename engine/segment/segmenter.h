@@ -29,9 +29,10 @@ namespace pg::seg {
 // probabilities as unary terms of the same solve (ptv3+graph).
 enum class GraphUse { None, Alone, Unary };
 
-// How the graph is solved (`--graph-solver`): the random walk's probabilities (walk) or each
-// Gaussian's widest path to a seed (forest, see seeded_forest.h).
-enum class GraphSolver { Walk, Forest };
+// How the graph is solved (`--graph-solver`): the random walk's probabilities (walk), each
+// Gaussian's widest path to a seed (forest, see seeded_forest.h), or the walk where it is sure
+// and the forest's widest paths from there for the rest (walk+forest).
+enum class GraphSolver { Walk, Forest, WalkForest };
 GraphSolver parse_graph_solver(const std::string& name, const std::string& option = "--graph-solver");
 const char* graph_solver_name(GraphSolver solver);
 
@@ -50,9 +51,10 @@ struct SegmentOptions {
     bool strict = false;          // an object that fails stops the run (InputError) instead of failing alone
     GraphUse graph = GraphUse::None;
     GraphOptions graph_options;
-    GraphSolver solver = GraphSolver::Forest;
+    GraphSolver solver = GraphSolver::WalkForest;
     WalkOptions walk;
     ForestOptions forest;
+    float walk_sure = 0.7f;       // walk+forest: the walk's label stands where its share reaches this
     double graph_margin = 0.5;    // the solve's domain: the ROI columns widened by this fraction per side
     float unary = 1.0f;           // ptv3+graph: a node's unary strength, in units of its degree,
     float unary_confidence = 0.97f;  // where the network's most likely label has at least this probability
@@ -79,7 +81,8 @@ struct GraphReport {
     size_t nodes = 0, seeds = 0;
     size_t unreached = 0, unreached_components = 0;  // Gaussians (and components) with no seed or prior: unlabelled
     GraphSolver solver = GraphSolver::Walk;
-    uint32_t iterations = 0;     // walk: conjugate-gradient iterations; forest: relaxation rounds
+    uint32_t iterations = 0;     // the walk's conjugate-gradient iterations
+    uint32_t rounds = 0;         // the forest's relaxation rounds
     double residual = 0, cell = 0, spacing = 0;
 };
 

@@ -1,9 +1,9 @@
 #version 450
 // k nearest neighbours of every node among the nodes of its own and the 26 surrounding grid
 // cells (exact within one cell side), nearest first, and the node's local spacing (the mean
-// distance to them). A node with fewer than k there searches further shells of cells, up to
-// kGraphMaxRing: sparse Gaussians (large ones, floaters, thin parts) would otherwise be islands
-// no seed reaches. A cell's nodes are found by a binary search in the sorted cell keys.
+// distance to them). A node with fewer than k there may search further shells of cells (dims.w,
+// at most kGraphMaxShells): sparse Gaussians (large ones, floaters, thin parts) are otherwise
+// islands no seed reaches. A cell's nodes are found by a binary search in the sorted cell keys.
 #extension GL_GOOGLE_include_directive : require
 #include "common/dispatch.glsl"
 #include "segment/graph_shared.h"
@@ -37,7 +37,8 @@ void main() {
     uint best_j[kGraphMaxK];
     for (uint t = 0u; t < kGraphMaxK; ++t) best_d[t] = 3.4e38, best_j[t] = kGraphNone;
     uint found = 0u;
-    for (int ring = 0; ring <= int(kGraphMaxRing) && (ring <= 1 || found < k); ++ring)
+    int shells = int(min(max(pc.dims.w, 1u), kGraphMaxShells));
+    for (int ring = 0; ring <= shells && (ring <= 1 || found < k); ++ring)
         for (int dz = -ring; dz <= ring; ++dz)
             for (int dy = -ring; dy <= ring; ++dy)
                 for (int dx = -ring; dx <= ring; ++dx) {

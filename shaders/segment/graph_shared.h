@@ -19,7 +19,7 @@ using uint = uint32_t;
 PG_GRAPH_CONST uint kGraphGroup = 256;
 PG_GRAPH_CONST uint kGraphMaxK = 16;         // neighbours kept per node (the k option <= this)
 PG_GRAPH_CONST uint kGraphNone = 0xFFFFFFFFu;  // an empty neighbour slot
-PG_GRAPH_CONST uint kGraphMaxRing = 4;       // shells of cells a node short of k neighbours searches
+PG_GRAPH_CONST uint kGraphMaxShells = 4;     // most shells of cells a node short of k neighbours searches
 PG_GRAPH_CONST uint kWalkMaxLabels = 16;     // label columns of one solve (more run as several)
 PG_GRAPH_CONST uint kWalkVecs = kWalkMaxLabels / 4;  // most vec4s per node (a solve uses ceil(labels / 4))
 PG_GRAPH_CONST int kWalkFree = -1;           // a node that is no seed
@@ -32,13 +32,14 @@ struct GraphNodesPush {
 // graph_cells, graph_knn: a uniform grid of cell side 1 / origin.w over the robust bounds.
 struct GraphGridPush {
     vec4 origin;  // xyz: grid corner, w: 1 / cell side
-    uvec4 dims;   // cells along x, y, z (a cell key packs x | y << bits.x | z << (bits.x + bits.y))
+    uvec4 dims;   // cells along x, y, z (a cell key packs x | y << bits.x | z << (bits.x + bits.y));
+                  // w: shells of cells searched (beyond the first only while short of k)
     uvec4 bits;   // x, y: key bits of the x and y coordinates; z: nodes; w: k
 };
 
 // graph_weights: affinity of an edge = colour x distance x normal x opacity terms.
 struct GraphWeightsPush {
-    vec4 beta;   // x: colour, y: normal, z: distance (in local spacings), w: unused
+    vec4 beta;   // x: colour, y: normal, z: distance (in local spacings), w: opacity exponent
     uvec4 size;  // x: nodes, y: k
 };
 

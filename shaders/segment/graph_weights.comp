@@ -1,7 +1,8 @@
 #version 450
 // Affinity of each kNN edge: exp(-beta_c |rgb_i - rgb_j|^2) * exp(-(d / (beta_d s))^2)
-// * exp(-beta_n f_i f_j (1 - (n_i . n_j)^2)) * min(opacity_i, opacity_j), with s the larger local
-// spacing of the two nodes and f their flatness (a round Gaussian has no normal to compare).
+// * exp(-beta_n f_i f_j (1 - (n_i . n_j)^2)) * min(opacity_i, opacity_j)^beta_o, with s the geometric
+// mean of the two nodes' local spacings (a sparse Gaussian's long edge into a dense part stays
+// weak: floaters do not bridge objects) and f their flatness (a round Gaussian has no normal).
 #extension GL_GOOGLE_include_directive : require
 #include "common/dispatch.glsl"
 #include "segment/graph_shared.h"
@@ -25,9 +26,9 @@ void main() {
         return;
     }
     vec3 dc = colour[i].rgb - colour[j].rgb;
-    float s = max(max(spacing[i], spacing[j]), 1e-12) * pc.beta.z;
+    float s = max(sqrt(spacing[i] * spacing[j]), 1e-12) * pc.beta.z;
     float r = dist[e] / s;
     float nn = dot(normal[i].xyz, normal[j].xyz);
     float bend = normal[i].w * normal[j].w * (1.0 - nn * nn);
-    weight[e] = exp(-pc.beta.x * dot(dc, dc) - r * r - pc.beta.y * bend) * min(pos[i].w, pos[j].w);
+    weight[e] = exp(-pc.beta.x * dot(dc, dc) - r * r - pc.beta.y * bend) * pow(max(min(pos[i].w, pos[j].w), 1e-30), pc.beta.w);
 }

@@ -66,7 +66,7 @@ RefGraph knn_graph(const std::vector<GraphNode>& nodes, uint32_t k, float radius
             if (j == 0xFFFFFFFFu) continue;
             const GraphNode &a = nodes[i], &b = nodes[j];
             glm::vec3 dc = a.colour - b.colour;
-            double s = std::max(std::max(spacing[i], spacing[j]), 1e-12f) * beta_distance;
+            double s = std::max(std::sqrt(double(spacing[i]) * double(spacing[j])), 1e-12) * beta_distance;
             double r = g.distances[i * k + t] / s;
             double nn = glm::dot(a.normal, b.normal);
             double bend = a.flatness * b.flatness * (1 - nn * nn);

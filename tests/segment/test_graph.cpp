@@ -63,11 +63,14 @@ TEST_CASE("graph: k nearest neighbours and affinities match a brute-force CPU se
     }
     CHECK(compared > domain.size() / 4);
     CHECK(weight_checks > domain.size());
-    // A sparse node (short of k within one cell side) searches further: it is never an island
-    // while another node lies within kGraphMaxRing cell sides, and its nearest is exact.
+    // Asked to, a sparse node (short of k within one cell side) searches further: it is never an
+    // island while another node lies within `shells` cell sides, and its nearest is exact.
+    o.shells = seg::gpu::kGraphMaxShells;
+    graph.build(gpu, scene.cloud, domain, o);
+    got = graph.neighbours();
     size_t isolated_in_27_cells = 0;
     for (size_t i = 0; i < domain.size(); ++i) {
-        if (exact[i] || unbounded.distances[i * k] > graph.cell_side() * (seg::gpu::kGraphMaxRing - 0.01f)) continue;
+        if (exact[i] || unbounded.distances[i * k] > graph.cell_side() * (float(o.shells) - 0.01f)) continue;
         isolated_in_27_cells += unbounded.distances[i * k] > graph.cell_side() * 1.01f;
         CHECK(got[i * k] == unbounded.neighbours[i * k]);
     }
@@ -230,7 +233,7 @@ TEST_CASE("graph decoder: each object's click takes its own object, unclicked co
     auto& ctx = test::gpu();
     render::GpuScene gpu(ctx, s.cloud);
     seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras);  // no network
-    for (auto solver : {seg::GraphSolver::Walk, seg::GraphSolver::Forest})
+    for (auto solver : {seg::GraphSolver::Walk, seg::GraphSolver::Forest, seg::GraphSolver::WalkForest})
         for (float colour : {3.0f, 10.0f}) {
             // Flat colours on flat colours: the scene's boundaries are its colours. At the
             // default contrast (3) a single click's walk leaks over the floor (ball IoU 0.3-0.5);
