@@ -347,6 +347,9 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         // (it happens on real captures unlike its training data): that object gets no prior and
         // is solved as by the graph alone.
         std::vector<float> fg(size_t(nodes) * labels, 0.0f), bg(nodes, 1.0f);
+        // Inside an untrusted object's ROI the other networks' "not mine" is no evidence of
+        // background: the object there is unknown to them. No background prior there.
+        std::vector<uint8_t> unknown(nodes, 0);
         for (size_t j = 0; j < m; ++j) {
             double at_clicks = 0;
             size_t clicks = 0;
@@ -354,7 +357,11 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
                 for (auto& a : objects[j]->anchors)
                     if (a.positive && a.gaussian == int32_t(rois[j][s])) at_clicks += probabilities[j][s], ++clicks;
             objects[j]->network_trusted = clicks > 0 && at_clicks / double(clicks) > 0.5;
-            if (!objects[j]->network_trusted) continue;
+            if (!objects[j]->network_trusted) {
+                for (uint32_t g : rois[j])
+                    if (node_of[g] >= 0) unknown[size_t(node_of[g])] = 1;
+                continue;
+            }
             for (size_t s = 0; s < rois[j].size(); ++s) {
                 int32_t i = node_of[rois[j][s]];
                 if (i < 0) continue;
@@ -372,7 +379,8 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
             for (uint32_t l = 0; l < labels; ++l) sum += q[l];
             for (uint32_t l = 0; l < labels; ++l) top = std::max(top, q[l] /= sum);
             // Only where the network is sure: elsewhere the graph decides.
-            pr.gamma[i] = top >= o.unary_confidence ? o.unary * degree[i] : 0.0f;
+            const bool background = q[0] >= top;
+            pr.gamma[i] = top >= o.unary_confidence && !(background && unknown[i]) ? o.unary * degree[i] : 0.0f;
         }
     }
     if (o.solver == GraphSolver::Forest) {

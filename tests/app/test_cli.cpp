@@ -239,7 +239,10 @@ TEST_CASE("segment --decoder: the graph decoders on the bundled sample") {
     auto report = nlohmann::json::parse(pg::data::read_text_file(dir / "pred-graph" / "desk_000" / "report.json"));
     CHECK(report["graph"]["nodes"].get<size_t>() > 1000);
     CHECK(report["graph"]["residual"].get<double>() <= 1e-3);
-    for (auto [name, floor] : {std::pair{"pred-graph", 0.6}, std::pair{"pred-gt", 0.97}}) {
+    CHECK(report["graph"]["solver"] == "walk+forest");
+    CHECK(report["graph"]["rounds"].get<uint32_t>() > 0);
+    // One click per object on the sample: the default decoder takes each object whole.
+    for (auto [name, floor] : {std::pair{"pred-graph", 0.95}, std::pair{"pred-gt", 0.97}}) {
         auto e = run("eval --gt " + sample() + "/.. --pred " + (dir / name).string() + " --split all --json " +
                      (dir / (std::string(name) + ".json")).string());
         INFO(e.out);
@@ -250,6 +253,13 @@ TEST_CASE("segment --decoder: the graph decoders on the bundled sample") {
     auto bad = run(base + "--decoder graphs --out " + (dir / "bad").string());
     CHECK(bad.code == 1);
     CHECK(bad.out.find("--decoder") != std::string::npos);
+    for (const char* flag : {"--graph-solver trees", "--graph-shells 9"}) {
+        auto b = run(base + flag + " --out " + (dir / "bad").string());
+        INFO(b.out);
+        CHECK(b.code == 1);
+        CHECK(b.out.find(std::string(flag).substr(0, std::string(flag).find(' '))) != std::string::npos);
+        CHECK(!fs::exists(dir / "bad" / "scene.ply"));
+    }
 }
 
 TEST_CASE("prompts never writes a click that segment cannot lift, on every suite and many seeds") {
