@@ -39,7 +39,8 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 struct ClicksArgs {
-    std::string gt, model, out, split = "test", scenes, up = "cameras", roi;
+    std::string gt, model, out, split = "test", scenes, up = "cameras", roi, decoder = "ptv3";
+    std::string solver = "walk+forest";
     int max_clicks = 20;
     size_t objects = 0;  // 0: every object
     double sigma = 0, scale = 0;
@@ -117,10 +118,14 @@ std::vector<std::pair<int32_t, std::string>> scene_objects(const std::vector<int
 void run_clicks(const ClicksArgs& a) {
     // Every check on the input comes before the device starts and before anything is written.
     if (a.max_clicks < 1) throw data::InputError("--max-clicks", "must be at least 1");
+    const auto graph_use = seg::parse_graph_use(a.decoder);
+    const auto solver = seg::parse_graph_solver(a.solver);
+    const bool network = graph_use != seg::GraphUse::Alone;
+    if (network && a.model.empty()) throw data::InputError("--model", "is needed by the " + a.decoder + " decoder");
     const bool ground_truth = a.model == "ground-truth";
-    if (!ground_truth && !fs::is_regular_file(a.model))
+    if (network && !ground_truth && !fs::is_regular_file(a.model))
         throw data::InputError("--model", "'" + a.model + "' is neither ground-truth nor an existing model file");
-    if (!ground_truth) check_interactive_model(a.model);
+    if (network && !ground_truth) check_interactive_model(a.model);
     const auto suite = data::eval::read_suite_json(a.gt);
     const auto scenes = chosen_scenes(a, suite);
     for (const auto& name : scenes) {
@@ -133,6 +138,8 @@ void run_clicks(const ClicksArgs& a) {
     if (fs::exists(out) && fs::equivalent(out, a.gt))
         throw data::InputError("--out", "is the suite folder; predictions go to a folder of their own");
     seg::SegmentOptions o;
+    o.graph = graph_use;
+    o.solver = solver;
     o.sigma = a.sigma;
     o.scale = a.scale;
     o.seed = a.seed;
@@ -144,7 +151,7 @@ void run_clicks(const ClicksArgs& a) {
     vk::Context ctx(co);
     // One PTv3 on the device serves every scene.
     std::unique_ptr<Ptv3Decoder> ptv3;
-    if (!ground_truth) ptv3 = std::make_unique<Ptv3Decoder>(ctx, a.model);
+    if (network && !ground_truth) ptv3 = std::make_unique<Ptv3Decoder>(ctx, a.model);
 
     const auto run_start = Clock::now();
     std::vector<data::eval::ObjectClicks> all;
@@ -164,14 +171,19 @@ void run_clicks(const ClicksArgs& a) {
 
         render::GpuScene gpu_scene(ctx, cloud);
         std::unique_ptr<seg::Decoder> gt_decoder;
-        if (ground_truth) gt_decoder = std::make_unique<seg::GroundTruthDecoder>(*labels);
-        seg::Decoder& decoder = ground_truth ? *gt_decoder : static_cast<seg::Decoder&>(*ptv3);
-        seg::Segmenter segmenter(ctx, cloud, gpu_scene, cameras, decoder);
+        if (network && ground_truth) gt_decoder = std::make_unique<seg::GroundTruthDecoder>(*labels);
+        seg::Decoder* decoder = !network ? nullptr : ground_truth ? gt_decoder.get() : static_cast<seg::Decoder*>(ptv3.get());
+        auto segmenter = decoder ? std::make_unique<seg::Segmenter>(ctx, cloud, gpu_scene, cameras, *decoder)
+                                 : std::make_unique<seg::Segmenter>(ctx, cloud, gpu_scene, cameras);
+        const std::string decoder_name =
+            graph_use == seg::GraphUse::None ? decoder->name()
+            : decoder ? std::string(seg::graph_use_name(graph_use)) + " (" + decoder->name() + ")"
+                      : std::string("graph");
         const clk::Clicker3D clicker(cloud.mean);
         clk::SessionOptions so;
         so.max_clicks = a.max_clicks;
 
-        nlohmann::json report{{"scene", name},          {"decoder", decoder.name()}, {"device", ctx.info().name},
+        nlohmann::json report{{"scene", name},          {"decoder", decoder_name}, {"device", ctx.info().name},
                               {"gaussians", cloud.size()}, {"max_clicks", a.max_clicks},
                               {"up", {o.up.x, o.up.y, o.up.z}}, {"objects", nlohmann::json::array()}};
         Progress progress(name, objects.size());
@@ -193,7 +205,7 @@ void run_clicks(const ClicksArgs& a) {
                 }
                 prompts.objects.push_back(std::move(op));
                 try {
-                    return clk::mask_of(segmenter.segment(prompts, o).labels, id);
+                    return clk::mask_of(segmenter->segment(prompts, o).labels, id);
                 } catch (const data::InputError& e) {
                     throw data::InputError(flag_for(e.where()), e.reason());
                 }
@@ -231,8 +243,10 @@ void register_clicks(CLI::App& app, std::function<void()>& run) {
     auto a = std::make_shared<ClicksArgs>();
     auto* cmd = app.add_subcommand("clicks", "Simulate interactive sessions on a benchmark suite: clicks.json per scene for eval");
     cmd->add_option("--gt", a->gt, "Suite folder written by `pointgauss synth` (holds suite.json)")->required();
-    cmd->add_option("--model", a->model, "Decoder: a PTv3 model file (.safetensors), or ground-truth (the scene's labels)")
-        ->required();
+    cmd->add_option("--model", a->model, "The network: a PTv3 model file (.safetensors), or ground-truth (the scene's labels); not needed by --decoder graph");
+    cmd->add_option("--decoder", a->decoder, "ptv3 (the network alone, the paper's protocol), graph or ptv3+graph (see segment)")
+        ->capture_default_str();
+    cmd->add_option("--graph-solver", a->solver, "Graph decoders: walk, forest or walk+forest (see segment)")->capture_default_str();
     cmd->add_option("--out", a->out, "Prediction folder: <scene>/clicks.json is written")->required();
     cmd->add_option("--split", a->split, "Scenes to run: test (default), train or all")
         ->check(CLI::IsMember({"test", "train", "all"}));

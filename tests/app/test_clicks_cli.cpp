@@ -147,6 +147,24 @@ TEST_CASE("clicks: --scenes, --objects and --max-clicks narrow the run, a PTv3 f
     const size_t n = j["objects"][0]["iou_per_click"].size();
     CHECK(n >= 1);
     CHECK(n <= 2);
+
+    // The graph decoder needs no network; its sessions are scored the same way.
+    fs::remove_all(pred);
+    auto g = run("clicks --gt " + suite.string() +
+                 " --decoder graph --split all --scenes desk_001 --objects 1 --max-clicks 2 --out " + pred.string());
+    INFO(g.out);
+    REQUIRE(g.code == 0);
+    const json jg = json::parse(pg::data::read_text_file(pred / "desk_001" / "clicks.json"));
+    CHECK(jg["decoder"] == "graph");
+    REQUIRE(jg["objects"].size() == 1);
+    CHECK(jg["objects"][0]["iou_per_click"][0].get<double>() > 0.5);
+    for (const char* bad : {" --decoder graphs", " --decoder ptv3"}) {  // no such decoder; ptv3 without --model
+        auto b = run("clicks --gt " + suite.string() + bad + " --out " + (pred.parent_path() / "bad").string());
+        INFO(b.out);
+        CHECK(b.code == 1);
+        CHECK((b.out.find("--decoder") != std::string::npos || b.out.find("--model") != std::string::npos));
+        CHECK_FALSE(fs::exists(pred.parent_path() / "bad"));
+    }
 }
 
 TEST_CASE("clicks: bad input is one clear line, a non-zero exit and nothing written") {
