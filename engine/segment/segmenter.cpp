@@ -322,16 +322,22 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     pr.seed.assign(nodes, -1);
     for (uint32_t i = 0; i < nodes; ++i)
         if (!in_roi[i]) pr.seed[i] = 0;
-    // A click seeds its anchor and the anchor's graph neighbours (about one spacing around it):
-    // a lone anchor may be a faint Gaussian whose every edge is weak, and a seed that weak loses
-    // its whole object to a neighbour's in the forest. Anchors themselves win over neighbours.
+    // A click seeds the Gaussian whose centre is nearest to its 3D point and that Gaussian's graph
+    // neighbours (about one spacing around it). The anchor itself may be a large Gaussian whose
+    // footprint covers the pixel while its centre lies a metre away, or a faint one whose every
+    // edge is weak; a seed like that loses its object in the forest. Seeds win over neighbours.
     const auto nbr = graph_.neighbours();
     const uint32_t k = graph_.k();
+    std::vector<glm::vec3> node_pos(nodes);
+    std::vector<uint32_t> all_nodes(nodes);
+    for (uint32_t i = 0; i < nodes; ++i) node_pos[i] = cloud_.mean[domain[i]], all_nodes[i] = i;
+    const data::clicks::PointGrid node_grid(node_pos, all_nodes, std::max(graph_.cell_side(), 1e-6f));
     for (int pass = 0; pass < 2; ++pass)
         for (size_t j = 0; j < m; ++j)
             for (auto& a : objects[j]->anchors) {
                 if (a.gaussian < 0 || node_of[size_t(a.gaussian)] < 0) continue;
-                const uint32_t i = uint32_t(node_of[size_t(a.gaussian)]);
+                uint32_t i = uint32_t(node_of[size_t(a.gaussian)]);
+                node_grid.nearest(glm::vec3(a.position), 0xFFFFFFFFu, 8, &i);
                 const int32_t label = a.positive ? int32_t(j + 1) : 0;
                 if (pass == 1) {
                     pr.seed[i] = label;
