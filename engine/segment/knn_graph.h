@@ -28,6 +28,7 @@ struct GraphOptions {
     float normal = 2.0f;        // beta_n: exp(-beta_n f_i f_j (1 - (n_i . n_j)^2))
     float distance = 1.0f;      // beta_d: exp(-(d / (beta_d s))^2), s the local spacing
     float opacity = 1.0f;       // beta_o: min(o_i, o_j)^beta_o (0: opacity plays no part)
+    bool operator==(const GraphOptions&) const = default;
 };
 
 class KnnGraph {

@@ -191,7 +191,8 @@ namespace {
 
 // Per node: whether its connected component holds a seed, a prior or a coarse start (the
 // coarse graph, sparser, joins what the fine kNN graph splits); counts the others.
-std::vector<uint8_t> reached_components(const KnnGraph& graph, const WalkProblem& pr, GraphReport& report) {
+std::vector<uint8_t> reached_components(const KnnGraph& graph, const std::vector<uint32_t>& nbr, const WalkProblem& pr,
+                                        GraphReport& report) {
     const uint32_t n = graph.nodes(), k = graph.k();
     std::vector<uint32_t> parent(n);
     for (uint32_t i = 0; i < n; ++i) parent[i] = i;
@@ -199,7 +200,6 @@ std::vector<uint8_t> reached_components(const KnnGraph& graph, const WalkProblem
         while (parent[i] != i) i = parent[i] = parent[parent[i]];
         return i;
     };
-    const auto nbr = graph.neighbours();
     for (uint32_t i = 0; i < n; ++i)
         for (uint32_t t = 0; t < k; ++t)
             if (uint32_t j = nbr[size_t(i) * k + t]; j < n) {
@@ -224,6 +224,17 @@ std::vector<uint8_t> reached_components(const KnnGraph& graph, const WalkProblem
         }
     }
     return reached;
+}
+
+// What every solver reports of its graph and seeds.
+GraphReport graph_report(const KnnGraph& graph, GraphSolver solver, const std::vector<int32_t>& seed) {
+    GraphReport report;
+    report.solver = solver;
+    report.nodes = graph.nodes();
+    report.seeds = size_t(std::count_if(seed.begin(), seed.end(), [](int32_t s) { return s >= 0; }));
+    report.cell = graph.cell_side();
+    report.spacing = graph.median_spacing();
+    return report;
 }
 
 }  // namespace
@@ -299,13 +310,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     for (auto& roi : rois)
         for (uint32_t g : roi)
             if (node_of[g] >= 0) in_roi[size_t(node_of[g])] = 1;
-    const bool same_graph = domain == graph_domain_ && o.graph_options.k == graph_built_with_.k &&
-                            o.graph_options.cell == graph_built_with_.cell &&
-                            o.graph_options.colour == graph_built_with_.colour &&
-                            o.graph_options.normal == graph_built_with_.normal &&
-                            o.graph_options.distance == graph_built_with_.distance &&
-                            o.graph_options.opacity == graph_built_with_.opacity &&
-                            o.graph_options.shells == graph_built_with_.shells;
+    const bool same_graph = domain == graph_domain_ && o.graph_options == graph_built_with_;
     if (!same_graph) {
         graph_.build(scene_, cloud_, domain, o.graph_options);
         graph_domain_ = domain;
@@ -332,20 +337,22 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     std::vector<uint32_t> all_nodes(nodes);
     for (uint32_t i = 0; i < nodes; ++i) node_pos[i] = cloud_.mean[domain[i]], all_nodes[i] = i;
     const data::clicks::PointGrid node_grid(node_pos, all_nodes, std::max(graph_.cell_side(), 1e-6f));
-    for (int pass = 0; pass < 2; ++pass)
-        for (size_t j = 0; j < m; ++j)
-            for (auto& a : objects[j]->anchors) {
-                if (a.gaussian < 0 || node_of[size_t(a.gaussian)] < 0) continue;
-                uint32_t i = uint32_t(node_of[size_t(a.gaussian)]);
-                node_grid.nearest(glm::vec3(a.position), 0xFFFFFFFFu, 8, &i);
-                const int32_t label = a.positive ? int32_t(j + 1) : 0;
-                if (pass == 1) {
-                    pr.seed[i] = label;
-                    continue;
-                }
-                for (uint32_t t = 0; t < k; ++t)
-                    if (uint32_t q = nbr[size_t(i) * k + t]; q < nodes && pr.seed[q] < 0) pr.seed[q] = label;
-            }
+    struct ClickSeed {
+        uint32_t node;
+        int32_t label;
+    };
+    std::vector<ClickSeed> clicks;
+    for (size_t j = 0; j < m; ++j)
+        for (auto& a : objects[j]->anchors) {
+            if (a.gaussian < 0 || node_of[size_t(a.gaussian)] < 0) continue;
+            uint32_t i = uint32_t(node_of[size_t(a.gaussian)]);  // kept if no node is near the point
+            node_grid.nearest(glm::vec3(a.position), 0xFFFFFFFFu, 8, &i);
+            clicks.push_back({i, a.positive ? int32_t(j + 1) : 0});
+        }
+    for (auto [i, label] : clicks)
+        for (uint32_t t = 0; t < k; ++t)
+            if (uint32_t q = nbr[size_t(i) * k + t]; q < nodes && pr.seed[q] < 0) pr.seed[q] = label;
+    for (auto [i, label] : clicks) pr.seed[i] = label;
     if (o.graph == GraphUse::Unary) {
         // The network's probabilities as a prior: q_j = p_j where object j's ROI holds the node,
         // background = the product of (1 - p_j), normalised; strength `unary` x the node's degree.
@@ -390,7 +397,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         }
     }
     if (o.solver == GraphSolver::Forest) {
-        solve_forest(o, objects, domain, pr, result);
+        solve_forest(o, objects, domain, nbr, pr, result);
         result.stage_ms["graph solve"] += ms_since(t0);
         return;
     }
@@ -421,16 +428,12 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         for (uint32_t i = 0; i < nodes; ++i) column[i] = solution.x[size_t(i) * labels + l];
     }
 
-    GraphReport report;
-    report.nodes = nodes;
-    report.seeds = size_t(std::count_if(pr.seed.begin(), pr.seed.end(), [](int32_t s) { return s >= 0; }));
+    GraphReport report = graph_report(graph_, GraphSolver::Walk, pr.seed);
     report.iterations = solution.iterations;
     report.residual = solution.residual;
-    report.cell = graph_.cell_side();
-    report.spacing = graph_.median_spacing();
     // A component of the graph with no seed, prior or coarse start has no answer (its system is
     // singular and keeps whatever it started from): it stays unlabelled and is counted.
-    const auto reached = reached_components(graph_, pr, report);
+    const auto reached = reached_components(graph_, nbr, pr, report);
     // Each reached node's most likely label and its share of the probability.
     std::vector<int32_t> arg(nodes, -1);
     std::vector<float> share(nodes, 0.0f);
@@ -468,7 +471,8 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
 }
 
 void Segmenter::solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
-                             const std::vector<uint32_t>& domain, const WalkProblem& pr, SegmentResult& result) {
+                             const std::vector<uint32_t>& domain, const std::vector<uint32_t>& nbr, const WalkProblem& pr,
+                             SegmentResult& result) {
     // The network's confident labels (the walk's unary terms) seed the forest like clicks.
     const uint32_t nodes = uint32_t(domain.size()), labels = pr.labels;
     std::vector<int32_t> seed = pr.seed;
@@ -481,18 +485,13 @@ void Segmenter::solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>
     auto forest = forest_.solve(graph_, seed, o.forest);
     last_solution_.clear();  // the walk's warm start does not apply to hard labels
 
-    GraphReport report;
-    report.solver = GraphSolver::Forest;
-    report.nodes = nodes;
-    report.seeds = size_t(std::count_if(seed.begin(), seed.end(), [](int32_t s) { return s >= 0; }));
+    GraphReport report = graph_report(graph_, GraphSolver::Forest, seed);
     report.rounds = forest.rounds;
     report.residual = forest.converged ? 0.0 : 1.0;
-    report.cell = graph_.cell_side();
-    report.spacing = graph_.median_spacing();
     WalkProblem seeds_only;
     seeds_only.labels = labels;
     seeds_only.seed = std::move(seed);
-    reached_components(graph_, seeds_only, report);
+    reached_components(graph_, nbr, seeds_only, report);
     for (uint32_t i = 0; i < nodes; ++i)
         if (forest.label[i] > 0) objects[size_t(forest.label[i]) - 1]->claims.push_back({domain[i], 1.0f});
     result.graph = report;

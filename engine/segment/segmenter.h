@@ -124,7 +124,7 @@ private:
                      SegmentResult& result);
     // The same problem by widest paths: the seeds, plus the network's confident labels.
     void solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>& objects, const std::vector<uint32_t>& domain,
-                      const WalkProblem& problem, SegmentResult& result);
+                      const std::vector<uint32_t>& neighbours, const WalkProblem& problem, SegmentResult& result);
     // A starting point for the fine solve from the same problem on a subset of the nodes.
     std::vector<float> coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine);
     Anchor anchor_for(const data::PromptClick& click, const render::RenderSettings& settings, const std::string& what);
