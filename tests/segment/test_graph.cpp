@@ -25,6 +25,15 @@ std::vector<uint32_t> all_of(const data::GaussianCloud& cloud) {
     return d;
 }
 
+// The GPU's graph as the CPU references take it, so they solve the very same system.
+ref::RefGraph as_reference(const seg::KnnGraph& graph) {
+    ref::RefGraph rg;
+    rg.k = graph.k();
+    rg.neighbours = graph.neighbours();
+    rg.weights = graph.weights();
+    return rg;
+}
+
 }  // namespace
 
 TEST_CASE("graph: k nearest neighbours and affinities match a brute-force CPU search") {
@@ -93,10 +102,7 @@ TEST_CASE("random walker: the GPU's conjugate gradient matches Eigen's on the sa
     seg::GraphOptions go;
     auto domain = all_of(scene.cloud);
     graph.build(gpu, scene.cloud, domain, go);
-    ref::RefGraph rg;
-    rg.k = graph.k();
-    rg.neighbours = graph.neighbours();
-    rg.weights = graph.weights();
+    const auto rg = as_reference(graph);
     seg::RandomWalker walker(ctx);
     seg::WalkOptions wo;
     wo.tolerance = 1e-6f;
@@ -142,10 +148,7 @@ TEST_CASE("seeded forest: the GPU's widest-path rounds give Kruskal's seeded max
     seg::KnnGraph graph(ctx);
     auto domain = all_of(scene.cloud);
     graph.build(gpu, scene.cloud, domain, seg::GraphOptions{});
-    ref::RefGraph rg;
-    rg.k = graph.k();
-    rg.neighbours = graph.neighbours();
-    rg.weights = graph.weights();
+    const auto rg = as_reference(graph);
     seg::SeededForest forest(ctx);
     ref::Rng rng(6);
     for (uint32_t labels : {2u, 40u}) {
