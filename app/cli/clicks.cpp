@@ -40,7 +40,7 @@ namespace {
 
 struct ClicksArgs {
     std::string gt, model, out, split = "test", scenes, up = "cameras", roi, decoder = "ptv3";
-    std::string solver = "walk+forest";
+    std::string solver = "walk+forest", lift = "surface";
     int max_clicks = 20;
     size_t objects = 0;  // 0: every object
     double sigma = 0, scale = 0;
@@ -120,6 +120,7 @@ void run_clicks(const ClicksArgs& a) {
     if (a.max_clicks < 1) throw data::InputError("--max-clicks", "must be at least 1");
     const auto graph_use = seg::parse_graph_use(a.decoder);
     const auto solver = seg::parse_graph_solver(a.solver);
+    const auto lift = seg::parse_lift_rule(a.lift);
     const bool network = graph_use != seg::GraphUse::Alone;
     if (network && a.model.empty()) throw data::InputError("--model", "is needed by the " + a.decoder + " decoder");
     const bool ground_truth = a.model == "ground-truth";
@@ -140,6 +141,7 @@ void run_clicks(const ClicksArgs& a) {
     seg::SegmentOptions o;
     o.graph = graph_use;
     o.solver = solver;
+    o.lift = lift;
     o.sigma = a.sigma;
     o.scale = a.scale;
     o.seed = a.seed;
@@ -246,6 +248,7 @@ void register_clicks(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--model", a->model, "The network: a PTv3 model file (.safetensors), or ground-truth (the scene's labels); not needed by --decoder graph");
     cmd->add_option("--decoder", a->decoder, "ptv3 (the network alone, the paper's protocol), graph or ptv3+graph (see segment)")
         ->capture_default_str();
+    cmd->add_option("--lift", a->lift, "Where a click in a view lands: surface or tau (see segment)")->capture_default_str();
     cmd->add_option("--graph-solver", a->solver, "Graph decoders: walk, forest or walk+forest (see segment)")->capture_default_str();
     cmd->add_option("--out", a->out, "Prediction folder: <scene>/clicks.json is written")->required();
     cmd->add_option("--split", a->split, "Scenes to run: test (default), train or all")

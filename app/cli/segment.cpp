@@ -30,7 +30,7 @@ namespace {
 struct SegmentArgs {
     std::string scene, cameras, prompts, out, model, views = "all", mode = "occlusion", up = "cameras";
     std::string roi, label_property = "instance", decoder;  // empty: graph, or ptv3+graph when --model is given
-    std::string solver = "walk+forest";
+    std::string solver = "walk+forest", lift = "surface";
     double sigma = 0, scale = 0;
     bool no_refine = false, strict = false;
     seg::GraphOptions graph;
@@ -73,6 +73,7 @@ void run_segment(const SegmentArgs& args) {
     if (a.decoder.empty()) a.decoder = a.model.empty() ? "graph" : "ptv3+graph";
     const auto graph_use = seg::parse_graph_use(a.decoder);
     const auto solver = seg::parse_graph_solver(a.solver);
+    const auto lift = seg::parse_lift_rule(a.lift);
     const bool network = graph_use != seg::GraphUse::Alone;
     if (a.model.empty() && network) a.model = default_model_path();
     if (a.model.empty() && network)
@@ -103,6 +104,7 @@ void run_segment(const SegmentArgs& args) {
     o.graph_margin = a.margin;
     o.solver = solver;
     o.walk_sure = a.walk_sure;
+    o.lift = lift;
     if (!a.roi.empty()) parse_roi(a.roi, o.roi_length, o.roi_width);
     auto gt = cloud.int_property(a.label_property);
     if (network && ground_truth && !gt)
@@ -150,13 +152,15 @@ void run_segment(const SegmentArgs& args) {
     report["failed"] = failed;
     report["gaussians"] = cloud.size();
     report["up"] = {o.up.x, o.up.y, o.up.z};
+    report["lift"] = seg::lift_rule_name(o.lift);
     for (auto& obj : result.objects) {
         nlohmann::json jo{{"id", obj.id},          {"name", obj.name},       {"roi_gaussians", obj.roi_gaussians},
                           {"batches", obj.batches}, {"gaussians", obj.labelled}, {"sigma", obj.sigma},
                           {"roi", {obj.roi.length, obj.roi.width}}};
         if (!obj.error.empty()) jo["error"] = obj.error;
         if (graph_use == seg::GraphUse::Unary) jo["network_prior"] = obj.network_trusted;
-        // fallback: the click's pixel never reached tau; it lifted at tau x its final opacity (coverage).
+        // fallback: the click's pixel never reached tau (under --lift tau it lifted at tau x its final
+        // opacity, coverage).
         for (auto& an : obj.anchors)
             jo["anchors"].push_back({{"position", {an.position.x, an.position.y, an.position.z}},
                                      {"positive", an.positive}, {"gaussian", an.gaussian},
@@ -226,6 +230,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--seed", a->seed, "Partition seed")->capture_default_str();
     cmd->add_option("--decoder", a->decoder, "ptv3, graph (random walk on the kNN graph, no network) or ptv3+graph (the network's probabilities as the walk's unary terms); default graph, or ptv3+graph when --model is given");
     cmd->add_flag("--strict", a->strict, "Any object that fails stops the run (exit 1, nothing written); by default it is left out, the others are written and the exit code is 2");
+    cmd->add_option("--lift", a->lift, "Where a click in a view lands: surface (the pixel's dominant surface: what the masks show there) or tau (where the opacity first reaches 0.9, the paper's rule)")->capture_default_str();
     cmd->add_option("--graph-solver", a->solver, "Graph: walk (random-walk probabilities), forest (each Gaussian takes the label of the seed it reaches by the widest path) or walk+forest (the walk where it is sure, the forest for the rest)")->capture_default_str();
     cmd->add_option("--graph-k", a->graph.k, "Graph: neighbours per Gaussian (1-16)")->capture_default_str();
     cmd->add_option("--graph-colour", a->graph.colour, "Graph: colour contrast beta_c in exp(-beta_c |drgb|^2)")->capture_default_str();

@@ -147,4 +147,14 @@ data::Prompts Document::prompts() const {
     return p;
 }
 
+seg::LiftedClicks Document::anchors() const {
+    seg::LiftedClicks lifted;
+    for (const auto& o : state_.objects) {
+        if (!o.has_positive()) continue;
+        auto& a = lifted.emplace_back();
+        for (const auto& c : o.clicks) a.push_back(c.anchor);
+    }
+    return lifted;
+}
+
 }  // namespace pg::viewer

@@ -10,12 +10,13 @@
 #include <glm/glm.hpp>
 
 #include "dataset/prompts.h"
+#include "engine/segment/anchor.h"
 
 namespace pg::viewer {
 
 struct Click {
     data::PromptClick prompt;  // a dataset view pixel, or a 3D point from a free view
-    glm::dvec3 anchor{0.0};    // where it landed in 3D (for markers)
+    seg::Anchor anchor;        // where it landed in 3D: the marker, and what the segmenter starts from
     bool operator==(const Click&) const = default;
 };
 
@@ -66,6 +67,7 @@ public:
 
     // prompts.json for `pointgauss segment`: every object with at least one positive click, in order.
     data::Prompts prompts() const;
+    seg::LiftedClicks anchors() const;  // the anchors of prompts()' clicks, in the same order
 
 private:
     struct Entry {

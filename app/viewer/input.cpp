@@ -101,7 +101,7 @@ void Viewer::draw_markers() {
         if (o.hidden || (isolate_ && o.id != doc_.state().selected)) continue;
         const bool selected = o.id == doc_.state().selected;
         for (const auto& click : o.clicks) {
-            const glm::dvec4 p = view * glm::dvec4(click.anchor, 1.0);
+            const glm::dvec4 p = view * glm::dvec4(click.anchor.position, 1.0);
             if (p.z <= 1e-6) continue;
             const double u = (c.fx * p.x / p.z + c.cx) / c.width, v = (c.fy * p.y / p.z + c.cy) / c.height;
             if (u < 0 || v < 0 || u > 1 || v > 1) continue;

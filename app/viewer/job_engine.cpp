@@ -1,5 +1,6 @@
 #include "app/viewer/job_engine.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -21,28 +22,40 @@ JobEngine::JobEngine(vk::Context& ctx, const SceneData& scene, const render::Gpu
     : ctx_(ctx), scene_(scene), gpu_scene_(gpu_scene), lift_renderer_(ctx) {}
 
 seg::Anchor JobEngine::lift(const data::Camera& camera, double u, double v, bool positive) {
-    return seg::lift_click(lift_renderer_, gpu_scene_, camera, u, v, positive, scene_.options.render, "click");
+    return seg::lift_click(lift_renderer_, gpu_scene_, camera, u, v, positive, scene_.options.render,
+                           scene_.options.lift, "click");
 }
 
-seg::Segmenter& JobEngine::segmenter(const std::string& decoder) {
-    auto& s = segmenters_[decoder];
+seg::Anchor JobEngine::anchor(const data::PromptClick& click) {
+    if (click.point) return seg::anchor_at_point(scene_.cloud, *click.point, click.positive);
+    auto it = std::find_if(scene_.cameras.begin(), scene_.cameras.end(), [&](auto& c) { return c.name == click.view; });
+    if (it == scene_.cameras.end()) throw data::InputError("click", "no camera named '" + click.view + "'");
+    return lift(*it, click.u, click.v, click.positive);
+}
+
+seg::Segmenter& JobEngine::segmenter(const std::string& network) {
+    auto& s = segmenters_[network];
+    if (!s && network.empty()) s = std::make_unique<seg::Segmenter>(ctx_, scene_.cloud, gpu_scene_, scene_.cameras);
     if (!s) {
         std::unique_ptr<seg::Decoder> d;
-        if (decoder == "ground-truth") {
+        if (network == "ground-truth") {
             auto labels = scene_.cloud.int_property("instance");
             if (!labels) throw data::InputError(scene_.scene_path, "has no 'instance' property for the ground-truth decoder");
             d = std::make_unique<seg::GroundTruthDecoder>(*labels);
         } else {
-            d = std::make_unique<app::Ptv3Decoder>(ctx_, decoder);
+            d = std::make_unique<app::Ptv3Decoder>(ctx_, network);
         }
-        decoders_[decoder] = std::move(d);
-        s = std::make_unique<seg::Segmenter>(ctx_, scene_.cloud, gpu_scene_, scene_.cameras, *decoders_[decoder]);
+        decoders_[network] = std::move(d);
+        s = std::make_unique<seg::Segmenter>(ctx_, scene_.cloud, gpu_scene_, scene_.cameras, *decoders_[network]);
     }
     return *s;
 }
 
-seg::ObjectResult JobEngine::segment(const SegmentJob& job, std::map<std::string, double>& stage_ms) {
-    return segment_job(segmenter(job.decoder), job, scene_.options, stage_ms);
+SegmentOutcome JobEngine::segment(const SegmentJob& job, std::map<std::string, double>& stage_ms) {
+    const std::string network = job.decoder == "ground-truth" ? "ground-truth"
+                                : job.decoder == "graph"      ? std::string()
+                                                              : scene_.model;
+    return segment_job(segmenter(network), job, scene_.options, stage_ms);
 }
 
 void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::atomic<size_t>& total,
@@ -89,7 +102,11 @@ void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::a
     const std::string cameras = scene_.cameras_path.empty() ? (out / "cameras.json").string() : scene_.cameras_path;
     std::ostringstream replay;
     replay << "pointgauss segment " << scene_.scene_path << " --cameras " << cameras << " --prompts "
-           << (out / "prompts.json").string() << " --up " << up_arg << " --model " << rq.decoder << " --decoder ptv3 --out OUT";
+           << (out / "prompts.json").string() << " --up " << up_arg << " --lift " << seg::lift_rule_name(scene_.options.lift);
+    if (rq.decoder == "ground-truth") replay << " --model ground-truth --decoder ptv3";
+    else if (rq.decoder == "graph") replay << " --decoder graph";
+    else replay << " --model " << scene_.model << " --decoder " << rq.decoder;
+    replay << " --out OUT";
     nlohmann::json report;
     report["scene"] = scene_.scene_path;
     report["cameras"] = cameras;

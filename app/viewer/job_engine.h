@@ -23,6 +23,7 @@ struct SceneData {
     std::vector<data::Camera> cameras;
     seg::SegmentOptions options;           // up, scale, seed: as `segment` would use them
     std::string up_spec;                   // how the up axis was found
+    std::string model;                     // the network's file (empty: none; the graph decoder needs none)
 };
 
 struct ExportRequest {
@@ -37,19 +38,20 @@ struct ExportRequest {
 
 class JobEngine {
 public:
-    // `decoders`: name -> model path ("ground-truth" reads the scene's instance property).
     JobEngine(vk::Context& ctx, const SceneData& scene, const render::GpuScene& gpu_scene);
 
     // A click at pixel (u, v) of `camera` -> where it lands; InputError when it hits nothing.
     seg::Anchor lift(const data::Camera& camera, double u, double v, bool positive);
-    // One object's claims, as `segment` computes them for that object of prompts.json.
-    seg::ObjectResult segment(const SegmentJob& job, std::map<std::string, double>& stage_ms);
+    // A prompts.json click (in a view of the scene, or a 3D point) -> where it lands.
+    seg::Anchor anchor(const data::PromptClick& click);
+    // The job's objects, as `segment` computes them for those objects of prompts.json.
+    SegmentOutcome segment(const SegmentJob& job, std::map<std::string, double>& stage_ms);
     // Writes the chosen outputs; progress counts mask views.
     void write(const ExportRequest& request, std::atomic<size_t>& done, std::atomic<size_t>& total,
                const std::atomic<bool>& cancel);
 
 private:
-    seg::Segmenter& segmenter(const std::string& decoder);
+    seg::Segmenter& segmenter(const std::string& network);  // "": none, else a model file or ground-truth
 
     vk::Context& ctx_;
     const SceneData& scene_;

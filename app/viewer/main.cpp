@@ -17,6 +17,10 @@ int main(int argc, char** argv) {
     app.add_option("--up", o.up, "Up axis: auto (from the cameras; -y, the COLMAP frame, for a scene without cameras), cameras, ground "
                    "(plane fit), or x,y,z / -y ...")
         ->capture_default_str();
+    app.add_option("--decoder", o.decoder, "graph, ptv3+graph, ptv3 or ground-truth (default: as segment: graph, or "
+                   "ptv3+graph when --model is given)");
+    app.add_option("--lift", o.lift, "Where a click lands: surface (the pixel's dominant surface) or tau (the paper's rule)")
+        ->capture_default_str();
     app.add_option("--prompts", o.prompts, "Start from a prompts.json (a segment input or an earlier export)");
     app.add_option("--out", o.out, "Export folder (default: SCENE-segmentation)");
     app.add_option("--device", o.device, "Vulkan device (substring of its name; default: PG_DEVICE, else the best)");

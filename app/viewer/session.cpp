@@ -11,6 +11,7 @@ namespace {
 std::string signature(const data::ObjectPrompt& object, size_t index, const std::string& decoder) {
     nlohmann::json j;
     j["k"] = index;
+    j["id"] = object.id;
     j["decoder"] = decoder;
     for (auto& c : object.clicks) {
         nlohmann::json jc{{"positive", c.positive}};
@@ -23,35 +24,53 @@ std::string signature(const data::ObjectPrompt& object, size_t index, const std:
 
 }  // namespace
 
-seg::ObjectResult segment_job(seg::Segmenter& segmenter, const SegmentJob& job, seg::SegmentOptions options,
-                              std::map<std::string, double>& stage_ms) {
-    data::Prompts one;
-    one.objects.push_back(job.object);
-    options.seed += job.index;  // `segment` partitions object k with seed + k
-    options.graph = seg::GraphUse::None;  // one object at a time: the network alone (see README)
-    auto result = segmenter.segment(one, options);
+seg::GraphUse decoder_graph_use(const std::string& decoder) {
+    if (decoder == "graph") return seg::GraphUse::Alone;
+    if (decoder == "ptv3+graph") return seg::GraphUse::Unary;
+    return seg::GraphUse::None;
+}
+
+bool decoder_is_joint(const std::string& decoder) { return decoder_graph_use(decoder) != seg::GraphUse::None; }
+
+SegmentOutcome segment_job(seg::Segmenter& segmenter, const SegmentJob& job, seg::SegmentOptions options,
+                           std::map<std::string, double>& stage_ms) {
+    options.graph = decoder_graph_use(job.decoder);
+    if (job.prompts.objects.size() == 1) options.seed += job.index;  // `segment` partitions object k with seed + k
+    auto result = segmenter.segment(job.prompts, options, job.anchors);
     stage_ms = result.stage_ms;
-    if (!result.objects.front().error.empty()) throw std::runtime_error(result.objects.front().error);
-    return std::move(result.objects.front());
+    SegmentOutcome outcome;
+    for (auto& o : result.objects)
+        if (o.error.empty()) outcome.results.push_back(std::move(o));
+        else outcome.errors[o.id] = o.error;
+    return outcome;
 }
 
 void Session::sync(const Document& doc, const std::string& decoder) {
     if (doc.version() == doc_version_ && decoder == decoder_) return;
     doc_version_ = doc.version();
     decoder_ = decoder;
+    joint_ = decoder_is_joint(decoder);
     prompts_ = doc.prompts();
+    anchors_ = doc.anchors();
     signatures_.clear();
-    for (size_t k = 0; k < prompts_.objects.size(); ++k)
+    joint_signature_.clear();
+    for (size_t k = 0; k < prompts_.objects.size(); ++k) {
         signatures_.push_back(signature(prompts_.objects[k], k, decoder));
+        joint_signature_ += signatures_.back() + "\n";
+    }
     assemble();
 }
 
-const SegmentOutcome* Session::cached(size_t k) const {
-    auto it = cache_.find(prompts_.objects[k].id);
+const SegmentOutcome* Session::find(int key, const std::string& sig) const {
+    auto it = cache_.find(key);
     if (it == cache_.end()) return nullptr;
     for (const Cached& c : it->second)
-        if (c.signature == signatures_[k]) return &c.outcome;
+        if (c.signature == sig) return &c.outcome;
     return nullptr;
+}
+
+const SegmentOutcome* Session::cached(size_t k) const {
+    return joint_ ? find(kJoint, joint_signature_) : find(prompts_.objects[k].id, signatures_[k]);
 }
 
 std::optional<SegmentJob> Session::next_job() {
@@ -59,14 +78,17 @@ std::optional<SegmentJob> Session::next_job() {
     for (size_t k = 0; k < prompts_.objects.size(); ++k) {
         if (cached(k)) continue;
         in_flight_ = true;
-        return SegmentJob{prompts_.objects[k], k, decoder_, signatures_[k]};
+        if (joint_) return SegmentJob{prompts_, anchors_, 0, decoder_, joint_signature_};
+        return SegmentJob{{{prompts_.objects[k]}}, {anchors_[k]}, k, decoder_, signatures_[k]};
     }
     return std::nullopt;
 }
 
 void Session::store(const SegmentJob& job, SegmentOutcome outcome) {
     in_flight_ = false;
-    auto& results = cache_[job.object.id];
+    const bool joint = decoder_is_joint(job.decoder);
+    if (!joint && job.prompts.objects.size() != 1) throw std::logic_error("Session::store: a one-object job expected");
+    auto& results = cache_[joint ? kJoint : job.prompts.objects.front().id];
     results.push_back({job.signature, std::move(outcome)});
     if (results.size() > kResultsPerObject) results.erase(results.begin());
     assemble();
@@ -88,20 +110,28 @@ const std::string& Session::error(int id) const {
     static const std::string none;
     for (size_t k = 0; k < prompts_.objects.size(); ++k)
         if (prompts_.objects[k].id == id)
-            if (const SegmentOutcome* c = cached(k)) return c->error;
+            if (const SegmentOutcome* c = cached(k)) {
+                if (auto e = c->errors.find(id); e != c->errors.end()) return e->second;
+                return c->error;
+            }
     return none;
 }
 
 void Session::assemble() {
+    // The current results, object by object in prompts.json order.
     std::string key;
+    std::vector<const seg::ObjectResult*> current;
     for (size_t k = 0; k < prompts_.objects.size(); ++k)
-        if (const SegmentOutcome* c = cached(k); c && c->result)
-            key += std::to_string(prompts_.objects[k].id) + ":" + signatures_[k] + ";";
+        if (const SegmentOutcome* c = cached(k))
+            for (const auto& r : c->results)
+                if (r.id == prompts_.objects[k].id) {
+                    current.push_back(&r);
+                    key += std::to_string(r.id) + ":" + (joint_ ? joint_signature_ : signatures_[k]) + ";";
+                }
     if (key == assembled_) return;
     assembled_ = key;
     seg::SegmentResult result;
-    for (size_t k = 0; k < prompts_.objects.size(); ++k)
-        if (const SegmentOutcome* c = cached(k); c && c->result) result.objects.push_back(*c->result);
+    for (const auto* r : current) result.objects.push_back(*r);
     result.assemble(gaussians_);
     labelled_.clear();
     for (auto& o : result.objects) labelled_[o.id] = o.labelled;

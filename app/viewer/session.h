@@ -1,9 +1,13 @@
 #pragma once
 // The segmentation half of a viewer session: which objects the document's present clicks ask
-// to segment, each object's cached results (for its last few click sets, so undo and redo need
-// no new segmentation), and the labels assembled from the results that are current. No window
-// and no threads: the viewer runs the jobs handed out here on its job thread (through the same
+// to segment, the cached results (for their last few click sets, so undo and redo need no new
+// segmentation), and the labels assembled from the results that are current. No window and no
+// threads: the viewer runs the jobs handed out here on its job thread (through the same
 // Segmenter as `pointgauss segment`) and stores what comes back.
+//
+// The network alone (`ptv3`, `ground-truth`) segments object by object: a click re-segments
+// its own object only. The graph decoders (`graph`, `ptv3+graph`) solve every object at once,
+// since each object's clicks are the others' negatives: any click re-solves them all.
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -16,22 +20,30 @@
 
 namespace pg::viewer {
 
-// One object to segment, as `segment` would for the object at `index` of prompts.json.
+// Whether a viewer decoder ("graph", "ptv3+graph", "ptv3", "ground-truth", or a model path for
+// the network alone) solves the objects together, and how it uses the graph.
+seg::GraphUse decoder_graph_use(const std::string& decoder);
+bool decoder_is_joint(const std::string& decoder);
+
+// One segmentation, as `segment` would run it on prompts.json: one object (the network alone),
+// or every object (graph decoders).
 struct SegmentJob {
-    data::ObjectPrompt object;
-    size_t index = 0;  // `segment` partitions object k with seed + k
+    data::Prompts prompts;
+    seg::LiftedClicks anchors;  // where their clicks landed (lifted once, when they were made)
+    size_t index = 0;           // a one-object job: the object's index in prompts.json (`segment` partitions object k with seed + k)
     std::string decoder;
-    std::string signature;  // everything its result depends on
+    std::string signature;      // everything its result depends on
 };
 
 struct SegmentOutcome {
-    std::optional<seg::ObjectResult> result;
-    std::string error;  // why there is no result
+    std::vector<seg::ObjectResult> results;  // the job's objects that were segmented
+    std::map<int, std::string> errors;       // object id -> why it has no result
+    std::string error;                       // why the whole job failed
 };
 
-// Runs one job through `segmenter`, exactly as `segment` computes object `job.index` of prompts.json.
-seg::ObjectResult segment_job(seg::Segmenter& segmenter, const SegmentJob& job, seg::SegmentOptions options,
-                              std::map<std::string, double>& stage_ms);
+// Runs `job` through `segmenter` exactly as `segment` computes those objects of prompts.json.
+SegmentOutcome segment_job(seg::Segmenter& segmenter, const SegmentJob& job, seg::SegmentOptions options,
+                           std::map<std::string, double>& stage_ms);
 
 class Session {
 public:
@@ -40,8 +52,8 @@ public:
     // Follows the document's objects and clicks and the chosen decoder; reassembles the labels
     // when the set of current results changed (an undo back to cached clicks needs no job).
     void sync(const Document& doc, const std::string& decoder);
-    // The first object, in prompts.json order, whose cached result is not for its present clicks;
-    // none while a job is out (one at a time, so results arrive in order).
+    // The next segmentation whose result is not cached for the present clicks; none while a job
+    // is out (one at a time, so results arrive in order).
     std::optional<SegmentJob> next_job();
     void store(const SegmentJob& job, SegmentOutcome outcome);
     bool in_flight() const { return in_flight_; }
@@ -54,22 +66,28 @@ public:
     size_t labelled(int id) const;              // Gaussians object `id` holds in labels()
     const std::string& error(int id) const;     // why its present clicks failed to segment, else empty
 
-    static constexpr size_t kResultsPerObject = 8;  // click sets an object keeps results for
+    static constexpr size_t kResultsPerObject = 8;  // click sets an object (or a joint solve) keeps results for
 
 private:
     struct Cached {
         std::string signature;
         SegmentOutcome outcome;
     };
-    const SegmentOutcome* cached(size_t k) const;  // object k's result for its present clicks
+    static constexpr int kJoint = -1;  // cache key of joint solves (object ids are positive)
+    // The cached outcome that covers object k's present clicks, if any.
+    const SegmentOutcome* cached(size_t k) const;
+    const SegmentOutcome* find(int key, const std::string& signature) const;
     void assemble();
 
     size_t gaussians_;
     uint64_t doc_version_ = ~0ull;
     std::string decoder_;
+    bool joint_ = false;
     data::Prompts prompts_;               // the document's objects to segment
+    seg::LiftedClicks anchors_;           // where their clicks landed
     std::vector<std::string> signatures_;  // per object of prompts_
-    std::map<int, std::vector<Cached>> cache_;  // per object id, newest last
+    std::string joint_signature_;          // all of them
+    std::map<int, std::vector<Cached>> cache_;  // per object id (kJoint: joint solves), newest last
     bool in_flight_ = false;
     std::string assembled_;  // which results labels_ holds
     std::shared_ptr<const std::vector<int32_t>> labels_;

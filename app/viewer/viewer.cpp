@@ -106,6 +106,7 @@ void Viewer::load(const ViewerOptions& o) {
     if (up == "auto") up = scene_.cameras.empty() ? "-y" : "cameras";
     scene_.up_spec = up;
     scene_.options.up = app::resolve_up(up, scene_.cameras, scene_.cloud);
+    scene_.options.lift = seg::parse_lift_rule(o.lift);
     if (scene_.cameras.empty()) {
         // A scene without cameras gets an orbit, so it has views to snap to, export and replay.
         data::OrbitOptions oo;
@@ -128,19 +129,28 @@ void Viewer::load(const ViewerOptions& o) {
     frame_scene();
     snapped_ = 0;
 
+    // Decoders as `segment` names them: the graph needs no network; the network's file is
+    // --model, else the shipped one; ground-truth (the scene's own labels) for evaluation.
     const std::string shipped = app::default_model_path();
     if (!o.model.empty() && o.model != "ground-truth") {
         if (!fs::exists(o.model)) throw data::InputError("--model", "'" + o.model + "' does not exist");
-        decoders_.push_back(o.model);
-    } else if (!shipped.empty()) {
-        decoders_.push_back(shipped);
+        scene_.model = o.model;
+    } else {
+        scene_.model = shipped;
     }
+    decoders_ = {"graph"};
+    if (!scene_.model.empty()) decoders_.insert(decoders_.end(), {"ptv3+graph", "ptv3"});
     if (scene_.cloud.int_property("instance")) decoders_.push_back("ground-truth");
     if (o.model == "ground-truth" && !scene_.cloud.int_property("instance"))
         throw data::InputError(o.scene, "has no 'instance' property for the ground-truth decoder");
-    if (decoders_.empty())
-        throw data::InputError("--model", "no model found (set PG_MODEL or give --model FILE.safetensors)");
-    decoder_ = o.model == "ground-truth" ? "ground-truth" : decoders_.front();
+    // As `segment`: the graph by default; a model named without a decoder means ptv3+graph.
+    std::string want = o.decoder;
+    if (want.empty()) want = o.model == "ground-truth" ? "ground-truth" : o.model.empty() ? "graph" : "ptv3+graph";
+    if (!set_decoder(want))
+        throw data::InputError("--decoder", "'" + want + "' is not available (" +
+                                                (want == "ground-truth" ? "the scene has no 'instance' property"
+                                                                        : "no model found: set PG_MODEL or give --model") +
+                                                ")");
     export_folder_ = o.out.empty() ? (fs::path(o.scene).stem().string() + "-segmentation") : o.out;
 }
 
@@ -164,15 +174,7 @@ void Viewer::load_prompts(const std::string& path) {
                 o.id = op.id;
                 o.name = op.name;
                 o.colour = default_object_colour(op.id);
-                for (const auto& c : op.clicks) {
-                    glm::dvec3 anchor = c.point ? *c.point : glm::dvec3(0.0);
-                    if (!c.point) {
-                        const auto& cam = *std::find_if(scene_.cameras.begin(), scene_.cameras.end(),
-                                                        [&](auto& k) { return k.name == c.view; });
-                        anchor = job_engine_->lift(cam, c.u, c.v, c.positive).position;
-                    }
-                    o.clicks.push_back(Click{c, anchor});
-                }
+                for (const auto& c : op.clicks) o.clicks.push_back(Click{c, job_engine_->anchor(c)});
                 state.next_id = std::max(state.next_id, o.id + 1);
                 state.objects.push_back(std::move(o));
             }
@@ -288,7 +290,7 @@ void Viewer::click_at(double x, double y, bool positive) {
             if (prompt.view.empty()) prompt.point = a.position;
             inbox_.post([this, prompt, a, ms] {
                 lift_ms_ = ms;
-                doc_.add_click(Click{prompt, a.position});
+                doc_.add_click(Click{prompt, a});
                 status(std::string(prompt.positive ? "positive" : "negative") + " click added");
             });
         } catch (const std::exception& e) {
@@ -338,8 +340,7 @@ void Viewer::export_to(const std::string& folder, bool scene, bool objects, bool
 }
 
 bool Viewer::set_decoder(const std::string& want) {
-    auto it = std::find_if(decoders_.begin(), decoders_.end(),
-                           [&](auto& d) { return d == want || (want != "ground-truth" && want == "model"); });
+    auto it = std::find(decoders_.begin(), decoders_.end(), want == "model" ? "ptv3" : want);
     if (it == decoders_.end()) return false;
     decoder_ = *it;
     return true;
@@ -352,7 +353,7 @@ void Viewer::save_picture(const std::string& png) const {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Segmentation: one object per job, the session decides which.
+// Segmentation: the session decides what each job covers (one object, or all for the graph).
 
 void Viewer::update_segmentation() {
     session_.sync(doc_, decoder_);
@@ -363,7 +364,7 @@ void Viewer::update_segmentation() {
         std::map<std::string, double> ms;
         const auto t0 = Clock::now();
         try {
-            outcome.result = job_engine_->segment(job, ms);
+            outcome = job_engine_->segment(job, ms);
         } catch (const std::exception& e) {
             outcome.error = e.what();
         }
@@ -371,6 +372,7 @@ void Viewer::update_segmentation() {
         inbox_.post([this, job, outcome, ms, wall] {
             session_.store(job, outcome);
             if (!outcome.error.empty()) status("segmentation failed: " + outcome.error, true);
+            else if (!outcome.errors.empty()) status("segmentation failed: " + outcome.errors.begin()->second, true);
             else segment_ms_ = ms, segment_wall_ms_ = wall;
         });
     });

@@ -24,7 +24,7 @@ namespace pg::viewer {
 class ScriptRunner;
 
 struct ViewerOptions {
-    std::string scene, cameras, model, up = "auto", device, script, screenshot, out, prompts;
+    std::string scene, cameras, model, decoder, up = "auto", device, script, screenshot, out, prompts, lift = "surface";
     int width = 1400, height = 860;
     double render_scale = 0;  // 0: 1 on a GPU, 0.5 on a CPU device
 };
@@ -45,7 +45,7 @@ public:
     void fly(glm::dvec3 step);  // camera right, down, forward, in units of the distance to the target
     void frame_scene();
     Document& document() { return doc_; }  // objects, clicks, selection, undo
-    bool set_decoder(const std::string& name);  // a model path, "model" or "ground-truth"; false if unavailable
+    bool set_decoder(const std::string& name);  // graph, ptv3+graph, ptv3 or ground-truth; false if unavailable
     void show_mask(bool on) { show_mask_ = on; }
     void show_tints(bool on) { show_tints_ = on; }
     void isolate(bool on) { isolate_ = on; }

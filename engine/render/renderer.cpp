@@ -57,7 +57,8 @@ Renderer::Renderer(vk::Context& ctx)
       frame_(ctx, sizeof(gpu::FrameParams), vk::MemoryUse::Device, "frame params"),
       counters_(ctx, 16, vk::MemoryUse::Device, "render counters"),
       args_(ctx, 16, vk::MemoryUse::Device, "render indirect args"),
-      no_style_(ctx, 16, vk::MemoryUse::Device, "no render style") {}
+      no_style_(ctx, 16, vk::MemoryUse::Device, "no render style"),
+      pick_(ctx, sizeof(gpu::PixelPick), vk::MemoryUse::Device, "pixel pick") {}
 
 void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, const RenderSettings& settings,
                       const RenderStyle* style) {
@@ -68,6 +69,7 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
                                  std::to_string(camera.width) + "x" + std::to_string(camera.height));
     width_ = camera.width;
     height_ = camera.height;
+    last_scene_ = &scene;
     const uint32_t n = scene.size();
     const uint32_t tiles_x = (uint32_t(width_) + gpu::kTileSize - 1) / gpu::kTileSize;
     const uint32_t tiles_y = (uint32_t(height_) + gpu::kTileSize - 1) / gpu::kTileSize;
@@ -152,6 +154,27 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
 
 uint32_t Renderer::tiles_x() const { return (uint32_t(width_) + gpu::kTileSize - 1) / gpu::kTileSize; }
 uint32_t Renderer::tiles_y() const { return (uint32_t(height_) + gpu::kTileSize - 1) / gpu::kTileSize; }
+
+PixelPick Renderer::pick(int x, int y) {
+    if (!last_scene_) throw std::logic_error("Renderer::pick: nothing was rendered");
+    if (x < 0 || y < 0 || x >= width_ || y >= height_)
+        throw std::out_of_range("Renderer::pick: pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                                ") is off the " + std::to_string(width_) + "x" + std::to_string(height_) + " frame");
+    cmd_.dispatch("render/pick_pixel", {frame_, splats_, values_, ranges_, last_scene_->shapes, pick_},
+                  gpu::PickPush{{uint32_t(x), uint32_t(y), 0, 0}}, 1);
+    cmd_.submit_and_wait();
+    const auto g = vk::download_vector<gpu::PixelPick>(ctx_, pick_, 1)[0];
+    PixelPick p;
+    p.surface_id = g.ids.x == gpu::kNoGaussian ? -1 : int32_t(g.ids.x);
+    p.tau_id = g.ids.y == gpu::kNoGaussian ? -1 : int32_t(g.ids.y);
+    p.contributors = g.ids.z;
+    p.surface_depth = g.depths.x;
+    p.tau_depth = g.depths.y;
+    p.surface_weight = g.weights.x;
+    p.opacity = g.weights.y;
+    p.tau = g.weights.z;
+    return p;
+}
 
 RenderImages Renderer::read() const {
     RenderImages out;

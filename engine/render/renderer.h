@@ -43,6 +43,20 @@ struct RenderImages {
     std::vector<uint32_t> contributors;      // Gaussians blended into the pixel
 };
 
+// Where one pixel of a frame lands in depth (see Renderer::pick).
+struct PixelPick {
+    // The pixel's dominant surface (its contributors split where they are apart in depth; the
+    // surface of largest summed weight alpha * T) and its heaviest Gaussian; -1: none.
+    int32_t surface_id = -1;
+    float surface_depth = 0;  // that Gaussian's view-space depth
+    float surface_weight = 0; // the surface's summed weight
+    int32_t tau_id = -1;      // the Gaussian at which the accumulated opacity first reaches `tau`
+    float tau_depth = 0;
+    float tau = 0;            // the settings' tau, or tau x opacity when the pixel never reached it
+    float opacity = 0;        // the pixel's final opacity 1 - T
+    uint32_t contributors = 0;
+};
+
 class Renderer {
 public:
     explicit Renderer(vk::Context& ctx);
@@ -51,6 +65,9 @@ public:
     void render(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings,
                 const RenderStyle* style = nullptr);
     RenderImages read() const;
+    // Pixel (x, y) of the last frame, walked on the device as the blend walked it; waits for it.
+    // The last frame's scene must still be alive.
+    PixelPick pick(int x, int y);
 
     vk::Context& context() const { return ctx_; }
     const std::vector<vk::PassTiming>& timings() const { return timings_; }
@@ -76,7 +93,9 @@ private:
     sort::RadixSort sort_;
     vk::Buffer frame_, splats_, touched_, offsets_, rects_, counters_, args_, keys_, values_, ranges_, image_, aux_;
     vk::Buffer depth_keys_, order_, touched_sorted_;
-    vk::Buffer no_style_;  // bound as labels and palette when a frame has no style
+    vk::Buffer no_style_;
+    vk::Buffer pick_;      // one gpu::PixelPick
+    const GpuScene* last_scene_ = nullptr;  // the scene of the last frame (pick reads its shapes)  // bound as labels and palette when a frame has no style
     uint32_t capacity_ = 0, key_count_ = 0;
     int width_ = 0, height_ = 0, retries_ = 0;
     std::vector<vk::PassTiming> timings_;

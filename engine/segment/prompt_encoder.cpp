@@ -2,6 +2,7 @@
 
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "dataset/error.h"
@@ -9,9 +10,17 @@
 
 namespace pg::seg {
 
+LiftRule parse_lift_rule(const std::string& name, const std::string& option) {
+    if (name == "surface") return LiftRule::Surface;
+    if (name == "tau") return LiftRule::Tau;
+    throw data::InputError(option, "expected surface or tau, got '" + name + "'");
+}
+
+const char* lift_rule_name(LiftRule rule) { return rule == LiftRule::Surface ? "surface" : "tau"; }
+
 Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, const data::Camera& camera, double u,
-                  double v, bool positive, const render::RenderSettings& settings, const std::string& what,
-                  bool rendered) {
+                  double v, bool positive, const render::RenderSettings& settings, LiftRule rule,
+                  const std::string& what, bool rendered) {
     const int px = int(std::floor(u)), py = int(std::floor(v));
     if (!std::isfinite(u) || !std::isfinite(v) || px < 0 || py < 0 || px >= camera.width || py >= camera.height)
         throw data::InputError(what, "pixel (" + std::to_string(u) + ", " + std::to_string(v) + ") is off the " +
@@ -20,30 +29,35 @@ Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, con
     render::RenderSettings s = settings;
     s.width = s.height = 0;
     if (!rendered) renderer.render(scene, camera, s);
-    const uint64_t pixel = uint64_t(py) * uint64_t(camera.width) + uint64_t(px);
-    // One pixel of the aux image: depth, tau-depth, tau id, contributors.
-    auto aux = vk::download_vector<glm::uvec4>(renderer.context(), renderer.aux_buffer(), 1, pixel * 16)[0];
+    const render::PixelPick pick = renderer.pick(px, py);
+    if (!(pick.opacity >= kMinLiftCoverage))
+        throw data::InputError(what, "pixel (" + std::to_string(px) + ", " + std::to_string(py) + ") of view " +
+                                         camera.name + " is nearly empty (opacity " + std::to_string(pick.opacity) +
+                                         " < " + std::to_string(kMinLiftCoverage) + "): click on the object's surface");
+    if (pick.tau_id < 0 || pick.surface_id < 0)  // cannot happen: the ray's own opacity passes tau x opacity
+        throw std::runtime_error("lift_click: the fallback tau " + std::to_string(pick.tau) + " was not reached");
+    const double z = rule == LiftRule::Surface ? pick.surface_depth : pick.tau_depth;
+    const glm::dvec3 cam((px + 0.5 - camera.cx) / camera.fx * z, (py + 0.5 - camera.cy) / camera.fy * z, z);
     Anchor a;
     a.positive = positive;
-    if (aux.z == 0xFFFFFFFFu) {
-        const float coverage = vk::download_vector<glm::vec4>(renderer.context(), renderer.image_buffer(), 1, pixel * 16)[0].w;
-        if (!(coverage >= kMinLiftCoverage))
-            throw data::InputError(what, "pixel (" + std::to_string(px) + ", " + std::to_string(py) + ") of view " +
-                                             camera.name + " is nearly empty (opacity " + std::to_string(coverage) +
-                                             " < " + std::to_string(kMinLiftCoverage) +
-                                             "): click on the object's surface");
-        s.tau = settings.tau * coverage;
-        renderer.render(scene, camera, s);
-        aux = vk::download_vector<glm::uvec4>(renderer.context(), renderer.aux_buffer(), 1, pixel * 16)[0];
-        if (aux.z == 0xFFFFFFFFu)  // cannot happen: the ray's own opacity passes tau x coverage < coverage
-            throw std::runtime_error("lift_click: the fallback tau " + std::to_string(s.tau) + " was not reached");
-        a.fallback = true;
-        a.coverage = coverage;
-    }
-    const double z = double(std::bit_cast<float>(aux.y));
-    const glm::dvec3 cam((px + 0.5 - camera.cx) / camera.fx * z, (py + 0.5 - camera.cy) / camera.fy * z, z);
     a.position = glm::transpose(camera.R) * (cam - camera.t);
-    a.gaussian = int32_t(aux.z);
+    a.gaussian = rule == LiftRule::Surface ? pick.surface_id : pick.tau_id;
+    if (pick.opacity < settings.tau) {
+        a.fallback = true;
+        a.coverage = pick.opacity;
+    }
+    return a;
+}
+
+Anchor anchor_at_point(const data::GaussianCloud& cloud, const glm::dvec3& point, bool positive) {
+    Anchor a;
+    a.position = point;
+    a.positive = positive;
+    double best = std::numeric_limits<double>::max();
+    for (size_t i = 0; i < cloud.size(); ++i) {
+        const double d = glm::length(glm::dvec3(cloud.mean[i]) - point);
+        if (d < best) best = d, a.gaussian = int32_t(i);
+    }
     return a;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// Cross-modal prompt encoder: a click in a view becomes a 3D anchor (the depth where the
-// accumulated opacity first reaches tau along the pixel's ray), and every Gaussian gets
+// Cross-modal prompt encoder: a click in a view becomes a 3D anchor on the pixel's ray (see
+// LiftRule for where along it), and every Gaussian gets
 // positive/negative click weights; the ROI column around the first positive anchor is
 // gathered on the GPU.
 #include <cstdint>
@@ -10,36 +10,30 @@
 #include <glm/glm.hpp>
 
 #include "dataset/camera.h"
+#include "dataset/gaussian_cloud.h"
 #include "engine/render/gpu_scene.h"
 #include "engine/render/renderer.h"
+#include "engine/segment/anchor.h"
 #include "engine/sort/prefix_sum.h"
 
 namespace pg::seg {
 
-struct Anchor {
-    glm::dvec3 position{0.0};
-    bool positive = true;
-    int32_t gaussian = -1;  // the Gaussian at which opacity reached tau (-1 for 3D clicks)
-    // The pixel's opacity never reached tau, so the anchor is where it reached tau x its final
-    // opacity (see lift_click); `coverage` is that final opacity (1 for 3D clicks).
-    bool fallback = false;
-    float coverage = 1.0f;
-};
-
-// A pixel whose final opacity is below this is empty: a click there lifts to nothing.
-constexpr float kMinLiftCoverage = 0.5f;
-
-// Lifts pixel (u, v) of `camera` (column, row; the ray goes through the pixel's centre) to the
-// depth where the accumulated opacity first reaches tau (the paper's rule). A pixel that is
+// Lifts pixel (u, v) of `camera` (column, row; the ray goes through the pixel's centre) by
+// `rule`: the anchor is the point of the ray at the chosen Gaussian's depth (the dominant
+// surface's heaviest Gaussian, or the one at which the opacity reached tau). A pixel that is
 // clearly covered (final opacity >= kMinLiftCoverage) but never reaches tau — a translucent
-// wall, a blurry edge, a thin part — lifts where the opacity reaches tau x its final value:
-// the same fraction of what the ray meets, and the view is rendered once more for it.
+// wall, a blurry edge, a thin part — takes tau x its final opacity under the tau rule: the
+// same fraction of what the ray meets.
 // Throws InputError naming `what` when the pixel is off the image or (nearly) empty.
 // Renders the view at the camera's own size unless `rendered` says the renderer's last frame is
-// already this view with these settings; after a fallback the renderer holds another tau.
+// already this view with these settings.
 Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, const data::Camera& camera, double u,
-                  double v, bool positive, const render::RenderSettings& settings, const std::string& what,
-                  bool rendered = false);
+                  double v, bool positive, const render::RenderSettings& settings, LiftRule rule,
+                  const std::string& what, bool rendered = false);
+
+// A click given in 3D: the anchor is the point itself, and the Gaussian of nearest centre
+// stands for the surface it hit (a scan of the cloud on the host).
+Anchor anchor_at_point(const data::GaussianCloud& cloud, const glm::dvec3& point, bool positive);
 
 struct RoiBox {
     glm::dvec3 centre{0.0}, length_axis{1, 0, 0}, width_axis{0, 0, 1};

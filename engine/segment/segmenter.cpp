@@ -65,20 +65,9 @@ double Segmenter::scale_from_cameras(const glm::dvec3& target) const {
     return std::max(1e-6, 0.25 * d[d.size() / 2]);
 }
 
-Anchor Segmenter::anchor_for(const data::PromptClick& click, const render::RenderSettings& settings,
-                             const std::string& what) {
-    if (click.point) {
-        // A 3D click: the anchor is the point itself; the nearest Gaussian stands for the surface hit.
-        Anchor a;
-        a.position = *click.point;
-        a.positive = click.positive;
-        double best = std::numeric_limits<double>::max();
-        for (size_t i = 0; i < cloud_.size(); ++i) {
-            double d = glm::length(glm::dvec3(cloud_.mean[i]) - a.position);
-            if (d < best) best = d, a.gaussian = int32_t(i);
-        }
-        return a;
-    }
+Anchor Segmenter::anchor_for(const data::PromptClick& click, const SegmentOptions& o, const std::string& what) {
+    const render::RenderSettings& settings = o.render;
+    if (click.point) return anchor_at_point(cloud_, *click.point, click.positive);
     auto it = std::find_if(cameras_.begin(), cameras_.end(), [&](auto& c) { return c.name == click.view; });
     if (it == cameras_.end()) throw data::InputError(what, "no camera named '" + click.view + "'");
     // A view already in the renderer with the settings that shape the tau-depth needs no second render.
@@ -86,12 +75,12 @@ Anchor Segmenter::anchor_for(const data::PromptClick& click, const render::Rende
                             "|" + std::to_string(settings.antialiased);
     const bool rendered = rendered_view_ == key;
     rendered_view_.clear();  // if lifting throws, the frame state is unknown
-    Anchor a = lift_click(renderer_, scene_, *it, click.u, click.v, click.positive, settings, what, rendered);
-    if (!a.fallback) rendered_view_ = key;  // a fallback leaves another tau's frame behind
+    Anchor a = lift_click(renderer_, scene_, *it, click.u, click.v, click.positive, settings, o.lift, what, rendered);
+    rendered_view_ = key;
     return a;
 }
 
-SegmentResult Segmenter::segment(const data::Prompts& prompts, const SegmentOptions& o) {
+SegmentResult Segmenter::segment(const data::Prompts& prompts, const SegmentOptions& o, const LiftedClicks& lifted) {
     if (o.graph != GraphUse::Alone && !decoder_)
         throw data::InputError("decoder", std::string(graph_use_name(o.graph)) + " needs a network model");
     SegmentResult result;
@@ -107,7 +96,8 @@ SegmentResult Segmenter::segment(const data::Prompts& prompts, const SegmentOpti
         std::vector<uint32_t> roi;
         std::vector<float> p;
         try {
-            prepare(prompt, k, o, obj, p, roi, result);
+            const bool given = k < lifted.size() && lifted[k].size() == prompt.clicks.size();
+            prepare(prompt, k, given ? &lifted[k] : nullptr, o, obj, p, roi, result);
         } catch (const data::InputError& e) {
             if (o.strict) throw;
             obj.error = e.what();
@@ -129,12 +119,15 @@ SegmentResult Segmenter::segment(const data::Prompts& prompts, const SegmentOpti
     return result;
 }
 
-void Segmenter::prepare(const data::ObjectPrompt& prompt, size_t index, const SegmentOptions& o, ObjectResult& obj,
+void Segmenter::prepare(const data::ObjectPrompt& prompt, size_t index, const std::vector<Anchor>* lifted,
+                        const SegmentOptions& o, ObjectResult& obj,
                         std::vector<float>& roi_probability, std::vector<uint32_t>& roi, SegmentResult& result) {
     const std::string what = "prompts: object '" + prompt.name + "'";
     auto t0 = Clock::now();
-    for (size_t c = 0; c < prompt.clicks.size(); ++c)
-        obj.anchors.push_back(anchor_for(prompt.clicks[c], o.render, what + " click " + std::to_string(c)));
+    if (lifted) obj.anchors = *lifted;
+    else
+        for (size_t c = 0; c < prompt.clicks.size(); ++c)
+            obj.anchors.push_back(anchor_for(prompt.clicks[c], o, what + " click " + std::to_string(c)));
     result.stage_ms["lift clicks"] += ms_since(t0);
     auto first_it = std::find_if(obj.anchors.begin(), obj.anchors.end(), [](auto& a) { return a.positive; });
     if (first_it == obj.anchors.end()) throw data::InputError(what, "has no positive click");

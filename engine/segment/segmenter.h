@@ -48,6 +48,7 @@ struct SegmentOptions {
     uint32_t max_batch = 8192;
     uint64_t seed = 1;
     render::RenderSettings render;  // tau and the like for click lifting
+    LiftRule lift = LiftRule::Surface;  // where a click in a view lands (see LiftRule)
     bool strict = false;          // an object that fails stops the run (InputError) instead of failing alone
     GraphUse graph = GraphUse::None;
     GraphOptions graph_options;
@@ -109,14 +110,18 @@ public:
     Segmenter(vk::Context& ctx, const data::GaussianCloud& cloud, const render::GpuScene& scene,
               const std::vector<data::Camera>& cameras);
 
-    SegmentResult segment(const data::Prompts& prompts, const SegmentOptions& options);
+    // `lifted`: anchors the caller has for the prompts' clicks (an object without them, or with
+    // a different count, has its clicks lifted here).
+    SegmentResult segment(const data::Prompts& prompts, const SegmentOptions& options,
+                          const LiftedClicks& lifted = {});
 
     // Typical object size from the cameras: a quarter of their median distance to `target`.
     double scale_from_cameras(const glm::dvec3& target) const;
 
 private:
     // Lifts, scales and encodes one object and runs the network over its ROI; InputError if it fails.
-    void prepare(const data::ObjectPrompt& prompt, size_t index, const SegmentOptions& o, ObjectResult& obj,
+    void prepare(const data::ObjectPrompt& prompt, size_t index, const std::vector<Anchor>* lifted,
+                 const SegmentOptions& o, ObjectResult& obj,
                  std::vector<float>& roi_probability, std::vector<uint32_t>& roi, SegmentResult& result);
     // The joint random walk over the objects that did not fail.
     void solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
@@ -127,7 +132,7 @@ private:
                       const std::vector<uint32_t>& neighbours, const WalkProblem& problem, SegmentResult& result);
     // A starting point for the fine solve from the same problem on a subset of the nodes.
     std::vector<float> coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine);
-    Anchor anchor_for(const data::PromptClick& click, const render::RenderSettings& settings, const std::string& what);
+    Anchor anchor_for(const data::PromptClick& click, const SegmentOptions& o, const std::string& what);
 
     vk::Context& ctx_;
     const data::GaussianCloud& cloud_;

@@ -26,6 +26,10 @@ PG_CONST float kTransmittanceMin = 0.0001;          // a pixel stops here
 PG_CONST float kLowPass = 0.3;                      // added to the 2D covariance diagonal
 PG_CONST float kFovClamp = 1.3;                     // Jacobian clamp, in units of tan(fov/2)
 PG_CONST uint kNoGaussian = 0xFFFFFFFFu;
+// A pixel's contributors that are further apart in depth than this x the sum of their
+// standard deviations along the ray lie on different surfaces: their 3-sigma supports do not
+// meet (render/pick_pixel.comp).
+PG_CONST float kSurfaceGap = 3.0;
 
 // Per-frame parameters, in a small storage buffer every pass reads.
 struct FrameParams {
@@ -48,7 +52,19 @@ struct Splat {
     vec4 color;         // rgb from SH, w: unused
 };
 
+// One pixel of the last frame, picked (render/pick_pixel.comp): where a click lands.
+struct PickPush {
+    uvec4 pixel;        // x, y, unused, unused
+};
+struct PixelPick {
+    uvec4 ids;          // dominant surface's heaviest Gaussian, tau Gaussian (kNoGaussian: none), contributors, unused
+    vec4 depths;        // that Gaussian's depth, tau depth, unused, unused
+    vec4 weights;       // the surface's summed weight alpha * T, final opacity 1 - T, the tau used, unused
+};
+
 #ifdef __cplusplus
+static_assert(sizeof(PickPush) == 16);
+static_assert(sizeof(PixelPick) == 48);
 static_assert(sizeof(FrameParams) == 176);
 static_assert(sizeof(Splat) == 48);
 }  // namespace pg::render::gpu

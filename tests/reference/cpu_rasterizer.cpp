@@ -24,25 +24,6 @@ constexpr int kBin = 16;                    // pixel bins used only to skip far 
 
 float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
 
-// Rotation matrix of the unit quaternion (w, x, y, z); columns are the local axes in world.
-glm::mat3 rotation_matrix(glm::vec4 q) {
-    const float len = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
-    if (!(len > 0.0f)) return glm::mat3(1.0f);  // zero quaternion: identity
-    q /= len;
-    const float w = q.x, x = q.y, y = q.z, z = q.w;
-    glm::mat3 r;
-    // glm is column-major: r[col][row].
-    r[0][0] = 1.0f - 2.0f * (y * y + z * z);
-    r[1][0] = 2.0f * (x * y - w * z);
-    r[2][0] = 2.0f * (x * z + w * y);
-    r[0][1] = 2.0f * (x * y + w * z);
-    r[1][1] = 1.0f - 2.0f * (x * x + z * z);
-    r[2][1] = 2.0f * (y * z - w * x);
-    r[0][2] = 2.0f * (x * z - w * y);
-    r[1][2] = 2.0f * (y * z + w * x);
-    r[2][2] = 1.0f - 2.0f * (x * x + y * y);
-    return r;
-}
 
 // Same basis order as diff-gaussian-rasterization's computeColorFromSH.
 glm::vec3 sh_colour(const float* coeffs, int degree, glm::vec3 dir) {
@@ -108,6 +89,25 @@ const glm::vec4* style_entry(const RefOptions& options, size_t i, size_t count) 
 }
 
 }  // namespace
+
+glm::mat3 rotation_matrix(glm::vec4 q) {
+    const float len = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+    if (!(len > 0.0f)) return glm::mat3(1.0f);  // zero quaternion: identity
+    q /= len;
+    const float w = q.x, x = q.y, y = q.z, z = q.w;
+    glm::mat3 r;
+    // glm is column-major: r[col][row].
+    r[0][0] = 1.0f - 2.0f * (y * y + z * z);
+    r[1][0] = 2.0f * (x * y - w * z);
+    r[2][0] = 2.0f * (x * z + w * y);
+    r[0][1] = 2.0f * (x * y + w * z);
+    r[1][1] = 1.0f - 2.0f * (x * x + z * z);
+    r[2][1] = 2.0f * (y * z - w * x);
+    r[0][2] = 2.0f * (x * z - w * y);
+    r[1][2] = 2.0f * (y * z + w * x);
+    r[2][2] = 1.0f - 2.0f * (x * x + y * y);
+    return r;
+}
 
 bool project_gaussian(const pg::data::GaussianCloud& cloud, size_t i, const pg::data::Camera& camera,
                       const RefOptions& options, ProjectedGaussian& out) {

@@ -47,6 +47,9 @@ struct ProjectedGaussian {
     glm::vec3 colour{0};    // SH evaluated for this camera, clamped below at 0, then tinted by the style
 };
 
+// Rotation matrix of the quaternion (w, x, y, z), normalised; columns are the local axes in world.
+glm::mat3 rotation_matrix(glm::vec4 q);
+
 // Runs the per-Gaussian stage; culled Gaussians return false.
 bool project_gaussian(const pg::data::GaussianCloud& cloud, size_t i, const pg::data::Camera& camera,
                       const RefOptions& options, ProjectedGaussian& out);

@@ -13,6 +13,7 @@
 #include "engine/segment/segmenter.h"
 #include "tests/gpu_fixture.h"
 #include "tests/reference/cpu_rasterizer.h"
+#include "tests/reference/pixel_pick.h"
 #include "tests/reference/test_scenes.h"
 
 using namespace pg;
@@ -134,7 +135,7 @@ data::Camera front_camera() {
 }
 }  // namespace
 
-TEST_CASE("click lifting: the anchor lies where opacity reaches tau, and bad clicks are named") {
+TEST_CASE("click lifting: by the tau rule the anchor lies where opacity reaches tau, and bad clicks are named") {
     // An opaque wall of overlapping Gaussians at z = 2 in front of a camera at the origin.
     data::GaussianCloud cloud;
     for (int y = -20; y <= 20; ++y)
@@ -145,14 +146,14 @@ TEST_CASE("click lifting: the anchor lies where opacity reaches tau, and bad cli
     auto& ctx = test::gpu();
     render::GpuScene gpu(ctx, cloud);
     render::Renderer renderer(ctx);
-    auto a = seg::lift_click(renderer, gpu, cam, 40, 10, true, {}, "click 0");
+    auto a = seg::lift_click(renderer, gpu, cam, 40, 10, true, {}, seg::LiftRule::Tau, "click 0");
     CHECK(a.position.z == Approx(2.0).margin(1e-4));
     // On the pixel's ray: x / z = (u + 0.5 - cx) / fx.
     CHECK(a.position.x / a.position.z == Approx((40.5 - 32) / 60.0).margin(1e-5));
     CHECK(a.position.y / a.position.z == Approx((10.5 - 24) / 60.0).margin(1e-5));
     CHECK(a.gaussian >= 0);
     try {
-        seg::lift_click(renderer, gpu, cam, 64, 3, true, {}, "prompts: click 7");
+        seg::lift_click(renderer, gpu, cam, 64, 3, true, {}, seg::LiftRule::Tau, "prompts: click 7");
         FAIL("expected an error");
     } catch (const data::InputError& e) {
         CHECK(std::string(e.what()).find("click 7") != std::string::npos);
@@ -161,7 +162,68 @@ TEST_CASE("click lifting: the anchor lies where opacity reaches tau, and bad cli
     // Looking away from the wall: opacity never reaches tau.
     data::Camera away = cam;
     away.R = glm::dmat3(-1, 0, 0, 0, 1, 0, 0, 0, -1);
-    CHECK_THROWS_AS(seg::lift_click(renderer, gpu, away, 30, 20, true, {}, "click"), data::InputError);
+    CHECK_THROWS_AS(seg::lift_click(renderer, gpu, away, 30, 20, true, {}, seg::LiftRule::Tau, "click"), data::InputError);
+}
+
+TEST_CASE("click lifting: a click on an object lifts onto it, though the ground behind its edge reaches tau") {
+    // The object: a wall at z = 2 of small Gaussians that cover a pixel to about 0.6 only; the
+    // ground: one large opaque Gaussian at z = 5 behind it, which completes the pixel.
+    data::GaussianCloud cloud;
+    for (int y = -8; y <= 8; ++y)
+        for (int x = -8; x <= 8; ++x)
+            ref::add_gaussian(cloud, glm::vec3(x * 0.05f, y * 0.05f, 2.0f), glm::vec3(std::log(0.03f), std::log(0.03f), -6.0f),
+                              glm::vec4(1, 0, 0, 0), -1.2f, glm::vec3(0.0f));
+    const int32_t ground = int32_t(cloud.size());
+    ref::add_gaussian(cloud, glm::vec3(0.0f, 0.0f, 5.0f), glm::vec3(std::log(2.0f), std::log(2.0f), std::log(0.05f)),
+                      glm::vec4(1, 0, 0, 0), 6.0f, glm::vec3(0.0f));
+    const data::Camera cam = front_camera();
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, cloud);
+    render::Renderer renderer(ctx);
+    const auto want = ref::pick_reference(cloud, cam, 33, 25);
+    INFO("opacity " << want.opacity << ", surface weight " << want.surface_weight << ", tau depth " << want.tau_depth);
+    REQUIRE(want.opacity > 0.9f);
+    REQUIRE(want.tau_id == ground);  // the wall alone never reaches tau here
+    auto tau = seg::lift_click(renderer, gpu, cam, 33, 25, true, {}, seg::LiftRule::Tau, "click");
+    CHECK(tau.gaussian == ground);
+    CHECK(tau.position.z == Approx(5.0).margin(1e-3));
+    auto surface = seg::lift_click(renderer, gpu, cam, 33, 25, true, {}, seg::LiftRule::Surface, "click", true);
+    CHECK(surface.gaussian == want.surface_id);
+    CHECK(surface.gaussian != ground);
+    CHECK(surface.position.z == Approx(2.0).margin(1e-3));
+    CHECK(surface.position.x / surface.position.z == Approx((33.5 - 32) / 60.0).margin(1e-5));
+}
+
+TEST_CASE("pixel picking matches the CPU reference: dominant surface, tau Gaussian, opacity") {
+    auto scene = ref::random_scene(21, 3000, 1);
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, scene.cloud);
+    render::Renderer renderer(ctx);
+    size_t picked = 0, same_surface = 0, same_tau = 0;
+    for (size_t v = 0; v < 2; ++v) {
+        const auto& cam = scene.cameras[v];
+        renderer.render(gpu, cam, {});
+        for (int y = 1; y < cam.height; y += 9)
+            for (int x = 2; x < cam.width; x += 11) {
+                const auto want = ref::pick_reference(scene.cloud, cam, x, y);
+                const auto got = renderer.pick(x, y);
+                CHECK(got.opacity == Approx(want.opacity).margin(1e-4));
+                if (want.opacity < 0.05f) continue;
+                ++picked;
+                same_surface += got.surface_id == want.surface_id;
+                same_tau += got.tau_id == want.tau_id;
+                if (got.surface_id == want.surface_id) {
+                    CHECK(got.surface_depth == Approx(want.surface_depth).margin(1e-4));
+                    CHECK(got.surface_weight == Approx(want.surface_weight).margin(1e-3));
+                }
+                if (got.tau_id == want.tau_id) CHECK(got.tau == Approx(want.tau).margin(1e-4));
+            }
+    }
+    INFO("picked " << picked << ", same surface " << same_surface << ", same tau Gaussian " << same_tau);
+    REQUIRE(picked > 100);
+    CHECK(double(same_surface) >= 0.98 * double(picked));
+    CHECK(double(same_tau) >= 0.98 * double(picked));
+    CHECK_THROWS_AS(renderer.pick(-1, 0), std::out_of_range);
 }
 
 TEST_CASE("objects: a Gaussian claimed twice goes to the higher probability, removal reassigns it") {
@@ -216,6 +278,7 @@ TEST_CASE("segmenter: clicks in the same view give the same anchors whether or n
                                   {cam.name, double(hits[1].first), double(hits[1].second), std::nullopt, false}}});
     seg::SegmentOptions o;
     o.scale = 0.5;
+    o.lift = seg::LiftRule::Tau;  // the anchors' Gaussians are then the frame's tau ids
     seg::Segmenter twice(ctx, scene.cloud, gpu, scene.cameras, decoder);
     auto r1 = twice.segment(p, o);
     auto r2 = twice.segment(p, o);  // second run reuses the rendered view
@@ -250,7 +313,7 @@ TEST_CASE("click lifting: a translucent surface lifts where opacity reaches tau 
             if (plain.tau_id[at] >= 0 || std::abs(alpha - seg::kMinLiftCoverage) < 0.02f) continue;
             if (alpha < seg::kMinLiftCoverage) {
                 try {
-                    seg::lift_click(renderer, gpu, cam, px, py, true, {}, "click 3");
+                    seg::lift_click(renderer, gpu, cam, px, py, true, {}, seg::LiftRule::Tau, "click 3");
                     FAIL("expected an error");
                 } catch (const data::InputError& e) {
                     CHECK(std::string(e.what()).find("nearly empty") != std::string::npos);
@@ -262,7 +325,7 @@ TEST_CASE("click lifting: a translucent surface lifts where opacity reaches tau 
             ref::RefOptions ro;
             ro.tau = 0.9f * alpha;
             auto want = ref::render_reference(cloud, cam, ro);
-            auto a = seg::lift_click(renderer, gpu, cam, px, py, true, {}, "click");
+            auto a = seg::lift_click(renderer, gpu, cam, px, py, true, {}, seg::LiftRule::Tau, "click");
             CHECK(a.fallback);
             CHECK(a.coverage == Approx(alpha).margin(1e-4));
             CHECK(a.gaussian == want.tau_id[at]);

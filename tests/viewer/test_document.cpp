@@ -13,7 +13,7 @@ Click click(double u, double v, bool positive = true) {
     c.prompt.u = u;
     c.prompt.v = v;
     c.prompt.positive = positive;
-    c.anchor = {u, v, 1.0};
+    c.anchor.position = {u, v, 1.0};
     return c;
 }
 }  // namespace

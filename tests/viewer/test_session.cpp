@@ -6,6 +6,7 @@
 
 #include "app/viewer/session.h"
 #include "engine/render/renderer.h"
+#include "engine/segment/prompt_encoder.h"
 #include "tests/gpu_fixture.h"
 #include "tests/reference/test_scenes.h"
 
@@ -45,8 +46,10 @@ std::vector<int> settle(Session& session, const Document& doc, const std::string
     std::vector<int> segmented;
     session.sync(doc, decoder);
     while (auto job = session.next_job()) {
-        segmented.push_back(job->object.id);
-        session.store(*job, {claims_of(job->object), {}});
+        REQUIRE(job->prompts.objects.size() == 1);
+        const auto& object = job->prompts.objects.front();
+        segmented.push_back(object.id);
+        session.store(*job, {{claims_of(object)}, {}, {}});
     }
     REQUIRE(session.settled());
     return segmented;
@@ -80,13 +83,13 @@ TEST_CASE("a click re-segments only its object, whose old labels go until the ne
     session.sync(doc, "model");
     auto job = session.next_job();
     REQUIRE(job);
-    CHECK(job->object.id == b);
+    CHECK(job->prompts.objects.front().id == b);
     CHECK_FALSE(session.next_job());  // one job at a time
     CHECK_FALSE(session.settled());
     // While b is re-segmented its stale labels are not shown; a's are.
     CHECK(count(labels(session), a) == 10);
     CHECK(count(labels(session), b) == 0);
-    session.store(*job, {claims_of(job->object), {}});
+    session.store(*job, {{claims_of(job->prompts.objects.front())}, {}, {}});
     CHECK(settle(session, doc).empty());
     CHECK(count(labels(session), b) == 20);
     CHECK(session.labelled(b) == 20);
@@ -168,8 +171,8 @@ TEST_CASE("deleting an object re-segments the ones after it, as segment would re
     session.sync(doc, "model");
     std::vector<std::pair<int, size_t>> jobs;
     while (auto job = session.next_job()) {
-        jobs.push_back({job->object.id, job->index});
-        session.store(*job, {claims_of(job->object), {}});
+        jobs.push_back({job->prompts.objects.front().id, job->index});
+        session.store(*job, {{claims_of(job->prompts.objects.front())}, {}, {}});
     }
     CHECK(jobs == std::vector<std::pair<int, size_t>>{{b, 0}, {c, 1}});
     CHECK(count(labels(session), a) == 0);
@@ -193,8 +196,9 @@ TEST_CASE("a failed object shows its error and no labels, and is retried once it
     Session session(kGaussians);
     session.sync(doc, "model");
     while (auto job = session.next_job()) {
-        if (job->object.id == a) session.store(*job, {std::nullopt, "the click hit nothing"});
-        else session.store(*job, {claims_of(job->object), {}});
+        const auto& object = job->prompts.objects.front();
+        if (object.id == a) session.store(*job, {{}, {{a, "the click hit nothing"}}, {}});
+        else session.store(*job, {{claims_of(object)}, {}, {}});
     }
     CHECK(session.settled());  // a failure is a result: not retried in a loop
     CHECK(session.error(a) == "the click hit nothing");
@@ -207,48 +211,94 @@ TEST_CASE("a failed object shows its error and no labels, and is retried once it
     CHECK(count(labels(session), a) == 20);
 }
 
-TEST_CASE("object by object, the session labels every Gaussian as segment labels the whole prompts.json", "[viewer]") {
-    auto scene = ref::random_scene(5, 4000, 0);
-    std::vector<int32_t> instance(scene.cloud.size());
-    for (size_t i = 0; i < instance.size(); ++i) instance[i] = int32_t(i % 3);
-    auto& ctx = test::gpu();
-    render::GpuScene gpu(ctx, scene.cloud);
-    seg::GroundTruthDecoder decoder(instance);
-    seg::Segmenter segmenter(ctx, scene.cloud, gpu, scene.cameras, decoder);
-    seg::SegmentOptions options;
-    options.scale = 0.5;
+namespace {
 
-    // Clicks on pixels that reach tau, in two views.
-    render::Renderer probe(ctx);
+// Two objects with a positive and a negative click each, in two views of a random scene whose
+// Gaussians belong to instances i % 3; clicks lifted once, as the viewer lifts them for markers.
+struct ClickedScene {
+    ref::TestScene scene = ref::random_scene(5, 4000, 0);
+    std::vector<int32_t> instance;
+    render::GpuScene gpu;
+    seg::SegmentOptions options;
     Document doc;
-    for (size_t view = 0; view < 2; ++view) {
-        const auto& cam = scene.cameras[view];
-        probe.render(gpu, cam, {});
-        const auto img = probe.read();
-        doc.add_object("object " + std::to_string(view));
-        int found = 0;
-        for (int y = 3 + int(view) * 5; y < img.height && found < 2; y += 11)
-            for (int x = 2; x < img.width && found < 2; x += 13)
-                if (const int32_t g = img.tau_id[size_t(y) * img.width + x];
-                    g >= 0 && (found > 0 || instance[size_t(g)] != 0)) {  // the positive click lands on an instance
+
+    ClickedScene() : gpu(test::gpu(), scene.cloud) {
+        instance.resize(scene.cloud.size());
+        for (size_t i = 0; i < instance.size(); ++i) instance[i] = int32_t(i % 3);
+        options.scale = 0.5;
+        render::Renderer probe(test::gpu());
+        for (size_t view = 0; view < 2; ++view) {
+            const auto& cam = scene.cameras[view];
+            probe.render(gpu, cam, options.render);
+            const auto img = probe.read();
+            doc.add_object("object " + std::to_string(view));
+            int found = 0;
+            for (int y = 3 + int(view) * 5; y < img.height && found < 2; y += 11)
+                for (int x = 2; x < img.width && found < 2; x += 13) {
+                    if (img.rgba[(size_t(y) * img.width + x) * 4 + 3] < seg::kMinLiftCoverage) continue;
                     Click c;
                     c.prompt.view = cam.name;
                     c.prompt.u = x + 0.5;
                     c.prompt.v = y + 0.5;
                     c.prompt.positive = found == 0;
+                    c.anchor = seg::lift_click(probe, gpu, cam, c.prompt.u, c.prompt.v, c.prompt.positive,
+                                               options.render, options.lift, "test click", true);
+                    if (found == 0 && instance[size_t(c.anchor.gaussian)] == 0) continue;  // the positive click lands on an instance
                     doc.add_click(c);
                     ++found;
                 }
-        REQUIRE(found == 2);
+            REQUIRE(found == 2);
+        }
     }
+};
 
-    Session session(scene.cloud.size());
-    session.sync(doc, "ground-truth");
+}  // namespace
+
+TEST_CASE("object by object, the session labels every Gaussian as segment labels the whole prompts.json", "[viewer]") {
+    ClickedScene s;
+    seg::GroundTruthDecoder decoder(s.instance);
+    seg::Segmenter segmenter(test::gpu(), s.scene.cloud, s.gpu, s.scene.cameras, decoder);
+    Session session(s.scene.cloud.size());
+    session.sync(s.doc, "ground-truth");
     std::map<std::string, double> ms;
-    while (auto job = session.next_job())
-        session.store(*job, {segment_job(segmenter, *job, options, ms), {}});
-    const auto whole = segmenter.segment(doc.prompts(), options);
+    while (auto job = session.next_job()) {
+        CHECK(job->prompts.objects.size() == 1);
+        session.store(*job, segment_job(segmenter, *job, s.options, ms));
+    }
+    const auto whole = segmenter.segment(s.doc.prompts(), s.options);
     REQUIRE(session.labels());
     CHECK(std::count_if(whole.labels.begin(), whole.labels.end(), [](int32_t l) { return l != 0; }) > 10);
+    CHECK(*session.labels() == whole.labels);
+}
+
+TEST_CASE("graph decoder: the session solves every object at once, as segment --decoder graph does", "[viewer]") {
+    ClickedScene s;
+    seg::Segmenter segmenter(test::gpu(), s.scene.cloud, s.gpu, s.scene.cameras);  // no network
+    Session session(s.scene.cloud.size());
+    std::map<std::string, double> ms;
+    const auto solve = [&] {
+        session.sync(s.doc, "graph");
+        auto job = session.next_job();
+        REQUIRE(job);
+        CHECK(job->prompts.objects.size() == 2);
+        CHECK_FALSE(session.next_job());  // one job at a time
+        session.store(*job, segment_job(segmenter, *job, s.options, ms));
+        CHECK(session.settled());
+    };
+    solve();
+    seg::SegmentOptions graph = s.options;
+    graph.graph = seg::GraphUse::Alone;
+    const auto whole = segmenter.segment(s.doc.prompts(), graph);
+    REQUIRE(session.labels());
+    for (int id : {1, 2}) CHECK(std::count(whole.labels.begin(), whole.labels.end(), id) > 0);
+    CHECK(*session.labels() == whole.labels);
+
+    // Undoing the second object's negative click changes what both objects compete for: one new
+    // joint solve. Redo returns to the cached solve without a job.
+    REQUIRE(s.doc.undo());
+    solve();
+    REQUIRE(s.doc.redo());
+    session.sync(s.doc, "graph");
+    CHECK_FALSE(session.next_job());
     CHECK(*session.labels() == whole.labels);
 }

@@ -305,6 +305,25 @@ TEST_CASE("the viewer starts from a prompts.json and labels every Gaussian as se
     // Exported again, the prompts are the ones loaded.
     CHECK(pg::data::read_json_file(dir / "export" / "prompts.json") == pg::data::read_json_file(prompts));
 
+    // The graph decoder solves all objects at once in the viewer, as `segment --decoder graph`
+    // does, and the export's replay line says so.
+    for (const char* e : {"export-graph", "replay-graph"}) fs::remove_all(dir / e);
+    auto graph_script = pg::test::write_script(
+        dir, json::array({{{"export", {{"folder", (dir / "export-graph").string()}, {"masks", false}}}}}));
+    Run g = pg::test::run_viewer(viewer_args(graph_script, "--decoder graph --prompts " + prompts.string()));
+    INFO(g.out);
+    REQUIRE(g.code == 0);
+    Run sg = pg::test::run_cli("segment " + (kScene / "scene.ply").string() + " --cameras " +
+                               (kScene / "cameras.json").string() + " --prompts " + prompts.string() +
+                               " --decoder graph --views none --out " + (dir / "replay-graph").string());
+    INFO(sg.out);
+    REQUIRE(sg.code == 0);
+    const auto graph_labels = pg::data::eval::read_gaussian_labels(dir / "export-graph" / "scene.ply", "instance");
+    CHECK(std::set<int32_t>(graph_labels.begin(), graph_labels.end()).size() == 11);
+    CHECK(graph_labels == pg::data::eval::read_gaussian_labels(dir / "replay-graph" / "scene.ply", "instance"));
+    const auto graph_report = pg::data::read_json_file(dir / "export-graph" / "report.json");
+    CHECK(graph_report["replay"].get<std::string>().find("--decoder graph") != std::string::npos);
+
     // A prompts file naming a view the scene lacks is refused with one error naming it.
     std::ofstream(dir / "bad.json") << R"({"objects": [{"name": "x", "clicks": [{"view": "nope", "u": 1, "v": 1}]}]})";
     Run bad = pg::test::run_viewer((kScene / "scene.ply").string() + " --model ground-truth --prompts " +
