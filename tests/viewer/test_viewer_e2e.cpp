@@ -285,44 +285,38 @@ TEST_CASE("the real guitar scene opens, gets an orbit, and a click outlines the 
 
 TEST_CASE("the viewer starts from a prompts.json and labels every Gaussian as segment does", "[viewer]") {
     const fs::path dir = pg::test::scratch("viewer-prompts");
-    for (const char* e : {"export", "replay"}) fs::remove_all(dir / e);
     const fs::path prompts = kScene / "prompts.json";
-    auto script = pg::test::write_script(
-        dir, json::array({{{"export", {{"folder", (dir / "export").string()}, {"masks", false}}}}}));
-    Run r = pg::test::run_viewer(viewer_args(script, "--prompts " + prompts.string()));
-    INFO(r.out);
-    REQUIRE(r.code == 0);
-    Run s = pg::test::run_cli("segment " + (kScene / "scene.ply").string() + " --cameras " +
-                              (kScene / "cameras.json").string() + " --prompts " + prompts.string() +
-                              " --model ground-truth --decoder ptv3 --views none --out " + (dir / "replay").string());
-    INFO(s.out);
-    REQUIRE(s.code == 0);
-    auto viewer_labels = pg::data::eval::read_gaussian_labels(dir / "export" / "scene.ply", "instance");
-    auto segment_labels = pg::data::eval::read_gaussian_labels(dir / "replay" / "scene.ply", "instance");
-    std::set<int32_t> ids(viewer_labels.begin(), viewer_labels.end());
-    CHECK(ids.size() == 11);  // the sample's 10 objects and 0
-    REQUIRE(viewer_labels == segment_labels);
-    // Exported again, the prompts are the ones loaded.
-    CHECK(pg::data::read_json_file(dir / "export" / "prompts.json") == pg::data::read_json_file(prompts));
-
-    // The graph decoder solves all objects at once in the viewer, as `segment --decoder graph`
-    // does, and the export's replay line says so.
-    for (const char* e : {"export-graph", "replay-graph"}) fs::remove_all(dir / e);
-    auto graph_script = pg::test::write_script(
-        dir, json::array({{{"export", {{"folder", (dir / "export-graph").string()}, {"masks", false}}}}}));
-    Run g = pg::test::run_viewer(viewer_args(graph_script, "--decoder graph --prompts " + prompts.string()));
-    INFO(g.out);
-    REQUIRE(g.code == 0);
-    Run sg = pg::test::run_cli("segment " + (kScene / "scene.ply").string() + " --cameras " +
-                               (kScene / "cameras.json").string() + " --prompts " + prompts.string() +
-                               " --decoder graph --views none --out " + (dir / "replay-graph").string());
-    INFO(sg.out);
-    REQUIRE(sg.code == 0);
-    const auto graph_labels = pg::data::eval::read_gaussian_labels(dir / "export-graph" / "scene.ply", "instance");
-    CHECK(std::set<int32_t>(graph_labels.begin(), graph_labels.end()).size() == 11);
-    CHECK(graph_labels == pg::data::eval::read_gaussian_labels(dir / "replay-graph" / "scene.ply", "instance"));
-    const auto graph_report = pg::data::read_json_file(dir / "export-graph" / "report.json");
-    CHECK(graph_report["replay"].get<std::string>().find("--decoder graph") != std::string::npos);
+    // The viewer loads the prompts and exports; `segment` runs the same prompts with the decoder
+    // the viewer used. The network alone segments object by object in the viewer, the graph
+    // decoder solves all objects at once; both must give segment's labels.
+    for (const std::string decoder : {"ptv3", "graph"}) {
+        DYNAMIC_SECTION("decoder " << decoder) {
+            const fs::path exported = dir / ("export-" + decoder), replay = dir / ("replay-" + decoder);
+            fs::remove_all(exported);
+            fs::remove_all(replay);
+            auto script = pg::test::write_script(
+                dir, json::array({{{"export", {{"folder", exported.string()}, {"masks", false}}}}}));
+            const std::string choice = decoder == "graph" ? "--decoder graph" : "--decoder ground-truth";
+            Run r = pg::test::run_viewer(viewer_args(script, choice + " --prompts " + prompts.string()));
+            INFO(r.out);
+            REQUIRE(r.code == 0);
+            Run s = pg::test::run_cli("segment " + (kScene / "scene.ply").string() + " --cameras " +
+                                      (kScene / "cameras.json").string() + " --prompts " + prompts.string() +
+                                      (decoder == "graph" ? " --decoder graph" : " --model ground-truth --decoder ptv3") +
+                                      " --views none --out " + replay.string());
+            INFO(s.out);
+            REQUIRE(s.code == 0);
+            auto viewer_labels = pg::data::eval::read_gaussian_labels(exported / "scene.ply", "instance");
+            std::set<int32_t> ids(viewer_labels.begin(), viewer_labels.end());
+            CHECK(ids.size() == 11);  // the sample's 10 objects and 0
+            REQUIRE(viewer_labels == pg::data::eval::read_gaussian_labels(replay / "scene.ply", "instance"));
+            // Exported again, the prompts are the ones loaded; the replay line names the decoder.
+            CHECK(pg::data::read_json_file(exported / "prompts.json") == pg::data::read_json_file(prompts));
+            const auto report = pg::data::read_json_file(exported / "report.json");
+            CHECK(report["replay"].get<std::string>().find("--decoder " + (decoder == "graph" ? decoder : "ptv3")) !=
+                  std::string::npos);
+        }
+    }
 
     // A prompts file naming a view the scene lacks is refused with one error naming it.
     std::ofstream(dir / "bad.json") << R"({"objects": [{"name": "x", "clicks": [{"view": "nope", "u": 1, "v": 1}]}]})";
