@@ -36,7 +36,7 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     auto prompts = data::read_prompts(a.prompts);
     // One click of the first object: the interactive unit of work; with a graph decoder the
     // first click of every object (they are solved together).
-    const auto graph = seg::parse_graph_use(a.decoder);
+    const auto graph = seg::parse_graph_use(a.decoder, "--decoder");
     data::Prompts one;
     for (auto& obj : prompts.objects)
         if (one.objects.empty() || graph != seg::GraphUse::None) {

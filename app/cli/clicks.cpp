@@ -118,9 +118,9 @@ std::vector<std::pair<int32_t, std::string>> scene_objects(const std::vector<int
 void run_clicks(const ClicksArgs& a) {
     // Every check on the input comes before the device starts and before anything is written.
     if (a.max_clicks < 1) throw data::InputError("--max-clicks", "must be at least 1");
-    const auto graph_use = seg::parse_graph_use(a.decoder);
-    const auto solver = seg::parse_graph_solver(a.solver);
-    const auto lift = seg::parse_lift_rule(a.lift);
+    const auto graph_use = seg::parse_graph_use(a.decoder, "--decoder");
+    const auto solver = seg::parse_graph_solver(a.solver, "--graph-solver");
+    const auto lift = seg::parse_lift_rule(a.lift, "--lift");
     const bool network = graph_use != seg::GraphUse::Alone;
     if (network && a.model.empty()) throw data::InputError("--model", "is needed by the " + a.decoder + " decoder");
     const bool ground_truth = a.model == "ground-truth";

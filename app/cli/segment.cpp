@@ -71,9 +71,9 @@ void run_segment(const SegmentArgs& args) {
     SegmentArgs a = args;
     // A model named without a decoder is meant to be used: the network with the graph.
     if (a.decoder.empty()) a.decoder = a.model.empty() ? "graph" : "ptv3+graph";
-    const auto graph_use = seg::parse_graph_use(a.decoder);
-    const auto solver = seg::parse_graph_solver(a.solver);
-    const auto lift = seg::parse_lift_rule(a.lift);
+    const auto graph_use = seg::parse_graph_use(a.decoder, "--decoder");
+    const auto solver = seg::parse_graph_solver(a.solver, "--graph-solver");
+    const auto lift = seg::parse_lift_rule(a.lift, "--lift");
     const bool network = graph_use != seg::GraphUse::Alone;
     if (a.model.empty() && network) a.model = default_model_path();
     if (a.model.empty() && network)

@@ -106,7 +106,7 @@ void Viewer::load(const ViewerOptions& o) {
     if (up == "auto") up = scene_.cameras.empty() ? "-y" : "cameras";
     scene_.up_spec = up;
     scene_.options.up = app::resolve_up(up, scene_.cameras, scene_.cloud);
-    scene_.options.lift = seg::parse_lift_rule(o.lift);
+    scene_.options.lift = seg::parse_lift_rule(o.lift, "--lift");
     if (scene_.cameras.empty()) {
         // A scene without cameras gets an orbit, so it has views to snap to, export and replay.
         data::OrbitOptions oo;

@@ -17,7 +17,7 @@ namespace pg::seg {
 // it can land on a translucent blob in front of the clicked object, or on the ground behind
 // the object's edge when the object alone does not reach tau.
 enum class LiftRule { Surface, Tau };
-LiftRule parse_lift_rule(const std::string& name, const std::string& option = "--lift");
+LiftRule parse_lift_rule(const std::string& name, const std::string& option = "lift");
 const char* lift_rule_name(LiftRule rule);
 
 struct Anchor {

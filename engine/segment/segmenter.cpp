@@ -146,7 +146,7 @@ void Segmenter::prepare(const data::ObjectPrompt& prompt, size_t index, const st
     result.stage_ms["encode + roi"] += ms_since(t0);
     obj.roi_gaussians = encoded.indices.size();
     if (encoded.indices.empty())
-        throw data::InputError(what, "the ROI around its first positive click holds no Gaussians (try a larger --roi)");
+        throw data::InputError(what, "the ROI around its first positive click holds no Gaussians (try a larger ROI)");
     roi = encoded.indices;
     if (o.graph == GraphUse::Alone) return;
 

@@ -33,11 +33,11 @@ enum class GraphUse { None, Alone, Unary };
 // Gaussian's widest path to a seed (forest, see seeded_forest.h), or the walk where it is sure
 // and the forest's widest paths from there for the rest (walk+forest).
 enum class GraphSolver { Walk, Forest, WalkForest };
-GraphSolver parse_graph_solver(const std::string& name, const std::string& option = "--graph-solver");
+GraphSolver parse_graph_solver(const std::string& name, const std::string& option = "graph solver");
 const char* graph_solver_name(GraphSolver solver);
 
 // "ptv3", "graph", "ptv3+graph"; InputError naming `option` otherwise.
-GraphUse parse_graph_use(const std::string& name, const std::string& option = "--decoder");
+GraphUse parse_graph_use(const std::string& name, const std::string& option = "decoder");
 const char* graph_use_name(GraphUse use);
 
 struct SegmentOptions {
