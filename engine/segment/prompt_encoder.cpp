@@ -95,11 +95,11 @@ EncodedPrompt PromptEncoder::encode(const render::GpuScene& scene, const std::ve
                      glm::vec4(glm::vec3(roi.length_axis), 0),
                      glm::vec4(glm::vec3(roi.width_axis), 0)};
     cmd_.begin_pass("click weights");
-    cmd_.dispatch("segment/click_weights", {scene.means, anchors_, weights_, flags_}, push, (n + 255) / 256);
+    cmd_.dispatch("segment/click_weights", {scene.means, anchors_, weights_, flags_}, push, vk::ceil_div(n, 256));
     cmd_.begin_pass("roi");
     scan_.exclusive(cmd_, flags_, offsets_, n, &total_, 0);
     cmd_.dispatch("segment/roi_compact", {flags_, offsets_, weights_, indices_, roi_weights_}, CompactPush{n},
-                  (n + 255) / 256);
+                  vk::ceil_div(n, 256));
     cmd_.end_pass();
     cmd_.submit_and_wait();
     timings_ = cmd_.timings();

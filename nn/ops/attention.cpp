@@ -65,7 +65,7 @@ Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, con
 
     Tensor kv = pool.empty({heads, n, 2 * head_dim}, DType::F32);
     cmd.dispatch("nn/attention_gather", {qkv, order, kv}, push,
-                 (uint64_t(kv.numel() / 4) + PG_ATTN_GATHER_THREADS - 1) / PG_ATTN_GATHER_THREADS);
+                 vk::ceil_div(uint64_t(kv.numel() / 4), PG_ATTN_GATHER_THREADS));
     const std::string shader = std::string(cpu ? "nn/attention_cpu_d" : "nn/attention_d") + std::to_string(d);
     cmd.dispatch(shader, {qkv, order, offsets, out, kv}, push, uint64_t(push.chunks) * uint64_t(heads));
     return out;

@@ -7,7 +7,7 @@ namespace pg::nn::ops {
 
 namespace {
 
-uint32_t ceil_div(uint64_t a, uint64_t b) { return uint32_t((a + b - 1) / b); }
+using vk::ceil_div;
 
 void expect(bool ok, const std::string& message) {
     if (!ok) throw std::invalid_argument(message);

@@ -28,7 +28,7 @@ struct Gemm {
     bool gelu = false;
 };
 
-uint32_t ceil_div(uint64_t a, uint64_t b) { return uint32_t((a + b - 1) / b); }
+using vk::ceil_div;
 
 void expect_f32(const Tensor& t, const char* op, const char* what) {
     if (t.dtype != DType::F32)

@@ -9,7 +9,7 @@ namespace pg::nn::ops {
 
 namespace {
 
-uint32_t ceil_div(uint64_t a, uint64_t b) { return uint32_t((a + b - 1) / b); }
+using vk::ceil_div;
 
 // Rows and channels of x [M, C] (a rank-1 x is one row); checks the per-channel vectors.
 void check(const char* op, const Tensor& x, std::initializer_list<std::pair<const char*, const Tensor*>> params,

@@ -15,7 +15,7 @@ namespace {
 
 constexpr uint64_t kMaxIndex = 0xFFFFFFFFull;  // shaders index in 32 bits
 
-uint32_t ceil_div(uint64_t a, uint64_t b) { return uint32_t((a + b - 1) / b); }
+using vk::ceil_div;
 
 void check_size(uint64_t n) {
     if (n > kMaxIndex) throw std::invalid_argument("sparse_conv: tensor too large for 32-bit indexing");

@@ -31,7 +31,7 @@ Tensor scale_rows(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tenso
     struct {
         uint32_t n, channels;
     } push{uint32_t(n), uint32_t(x.dim(1))};
-    cmd.dispatch("nn/scale_rows", {x, scale, y}, push, uint32_t((n + 255) / 256));
+    cmd.dispatch("nn/scale_rows", {x, scale, y}, push, vk::ceil_div(n, 256));
     return y;
 }
 

@@ -51,10 +51,10 @@ Tensor window_attention_backward(vk::CommandList& cmd, Pool& pool, const Tensor&
 
     Tensor gathered = pool.empty({heads, n, 4 * head_dim}, DType::F32);
     cmd.dispatch("nn/grad_attention_gather", {qkv, order, dout, gathered}, push,
-                 detail::ceil_div(uint64_t(gathered.numel() / 4), PG_GRAD_ATTN_THREADS));
+                 vk::ceil_div(uint64_t(gathered.numel() / 4), PG_GRAD_ATTN_THREADS));
     Tensor stats = pool.empty({heads, n, 2}, DType::F32);
     const std::string d = "_d" + std::to_string(head_dim);
-    const uint32_t groups = detail::ceil_div(uint64_t(heads) * uint64_t(n), PG_GRAD_ATTN_THREADS);
+    const uint32_t groups = vk::ceil_div(uint64_t(heads) * uint64_t(n), PG_GRAD_ATTN_THREADS);
     cmd.dispatch("nn/grad_attention_dq" + d, {gathered, order, offsets, stats, dqkv}, push, groups);
     cmd.dispatch("nn/grad_attention_dkv" + d, {gathered, order, offsets, stats, dqkv}, push, groups);
     return dqkv;

@@ -45,7 +45,7 @@ void AdamW::step(vk::CommandList& cmd, const std::vector<Tensor>& params, const 
         const uint32_t n = uint32_t(params[i].numel());
         AdamWPush push{n, float(lr), float(beta1), float(options_.beta2), float(options_.eps),
                        float(options_.weight_decay), float(bias1), float(std::sqrt(bias2))};
-        cmd.dispatch("nn/adamw", {params[i], grads[i], m_[i], v_[i]}, push, (uint64_t(n) + 255) / 256);
+        cmd.dispatch("nn/adamw", {params[i], grads[i], m_[i], v_[i]}, push, vk::ceil_div(n, 256));
     }
 }
 

@@ -105,7 +105,7 @@ TEST_CASE("dispatches over the group-count limit are split, never refused") {
         vk::Buffer b(ctx, n * 4, vk::MemoryUse::Device, "fill");
         vk::CommandList cmd(ctx);
         cmd.fill(b, 0);
-        cmd.dispatch("common/fill_u32", {b}, FillPush{n, 5}, (n + 63) / 64);
+        cmd.dispatch("common/fill_u32", {b}, FillPush{n, 5}, vk::ceil_div(n, 64));
         cmd.submit_and_wait();
         auto out = vk::download_vector<uint32_t>(ctx, b, n);
         for (uint32_t i = 0; i < n; ++i) REQUIRE(out[i] == 5 + i);
@@ -142,11 +142,11 @@ TEST_CASE("dependent passes are ordered by automatic barriers and timed") {
     vk::Buffer a(ctx, n * 4, vk::MemoryUse::Device, "a"), b(ctx, n * 4, vk::MemoryUse::Device, "b");
     vk::CommandList cmd(ctx);
     cmd.begin_pass("fill");
-    cmd.dispatch("common/fill_u32", {a}, FillPush{n, 1}, (n + 63) / 64);
+    cmd.dispatch("common/fill_u32", {a}, FillPush{n, 1}, vk::ceil_div(n, 64));
     cmd.begin_pass("copy");
     cmd.copy(a, b, n * 4);
     cmd.begin_pass("overwrite");
-    cmd.dispatch("common/fill_u32", {a}, FillPush{n, 100}, (n + 63) / 64);
+    cmd.dispatch("common/fill_u32", {a}, FillPush{n, 100}, vk::ceil_div(n, 64));
     cmd.end_pass();
     cmd.submit_and_wait();
     auto vb = vk::download_vector<uint32_t>(ctx, b, n);
