@@ -6,15 +6,12 @@
 #include <stdexcept>
 
 #include "engine/vk/context.h"
+#include "shaders/common/common_shared.h"
 #include "shaders/render/render_shared.h"
 
 namespace pg::render {
 
 namespace {
-
-struct ArgsPush {
-    uint32_t count_index, items_per_group, limit, args_index, clamp_count;
-};
 
 gpu::FrameParams frame_params(const data::Camera& cam, const RenderSettings& s, uint32_t count, uint32_t sh_floats,
                               int sh_degree, uint32_t capacity, uint32_t group_limit, uint32_t palette_size) {
@@ -131,7 +128,8 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
         sort_.sort_indirect(cmd_, keys_, values_, counters_, 0, capacity_, tile_bits, sort::KeyWidth::Bits32);
         cmd_.begin_pass("ranges");
         cmd_.fill(ranges_, 0);
-        cmd_.dispatch("common/indirect_args", {counters_, args_}, ArgsPush{0, 256, group_limit, 0, capacity_}, 1);
+        const vk::gpu::IndirectArgsPush args{0, 256, group_limit, 0, capacity_};
+        cmd_.dispatch("common/indirect_args", {counters_, args_}, args, 1);
         cmd_.dispatch_indirect("render/tile_ranges", {frame_, counters_, keys_, ranges_}, args_);
         cmd_.begin_pass("blend");
         cmd_.dispatch_2d("render/blend", {frame_, splats_, values_, ranges_, image_, aux_}, tiles_x, tiles_y);
