@@ -6,15 +6,12 @@
 #include <stdexcept>
 
 #include "engine/vk/context.h"
+#include "shaders/common/common_shared.h"
 #include "shaders/render/render_shared.h"
 
 namespace pg::render {
 
 namespace {
-
-struct ArgsPush {
-    uint32_t count_index, items_per_group, limit, args_index, clamp_count;
-};
 
 gpu::FrameParams frame_params(const data::Camera& cam, const RenderSettings& s, uint32_t count, uint32_t sh_floats,
                               int sh_degree, uint32_t capacity, uint32_t group_limit, uint32_t palette_size) {
@@ -25,8 +22,8 @@ gpu::FrameParams frame_params(const data::Camera& cam, const RenderSettings& s, 
     f.intrinsics = glm::vec4(float(cam.fx), float(cam.fy), float(cam.cx), float(cam.cy));
     f.background = glm::vec4(s.background, s.tau);
     f.clip = glm::vec4(s.near, float(0.5 * cam.width / cam.fx), float(0.5 * cam.height / cam.fy), 0.0f);
-    uint32_t tiles_x = (uint32_t(cam.width) + gpu::kTileSize - 1) / gpu::kTileSize;
-    uint32_t tiles_y = (uint32_t(cam.height) + gpu::kTileSize - 1) / gpu::kTileSize;
+    uint32_t tiles_x = vk::ceil_div(uint32_t(cam.width), gpu::kTileSize);
+    uint32_t tiles_y = vk::ceil_div(uint32_t(cam.height), gpu::kTileSize);
     f.size = glm::uvec4(cam.width, cam.height, tiles_x, tiles_y);
     f.scene = glm::uvec4(count, sh_floats, uint32_t(std::clamp(std::min(sh_degree, s.max_sh_degree), 0, 3)),
                          s.antialiased ? 1u : 0u);
@@ -71,8 +68,8 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     height_ = camera.height;
     last_scene_ = &scene;
     const uint32_t n = scene.size();
-    const uint32_t tiles_x = (uint32_t(width_) + gpu::kTileSize - 1) / gpu::kTileSize;
-    const uint32_t tiles_y = (uint32_t(height_) + gpu::kTileSize - 1) / gpu::kTileSize;
+    const uint32_t tiles_x = vk::ceil_div(uint32_t(width_), gpu::kTileSize);
+    const uint32_t tiles_y = vk::ceil_div(uint32_t(height_), gpu::kTileSize);
     const uint32_t tiles = tiles_x * tiles_y;
     const uint64_t pixels = uint64_t(width_) * uint64_t(height_);
     if (style) check_style(*style, n);
@@ -118,22 +115,23 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
         cmd_.begin_pass("preprocess");
         cmd_.dispatch("render/preprocess", {frame_, scene.means, scene.shapes, scene.sh, splats_, touched_, rects_,
                                             depth_keys_, order_, labels, palette},
-                      (n + 255) / 256);
+                      vk::ceil_div(n, 256));
         // Two stable sorts give the tile-major, front-to-back order of a 64-bit tile|depth sort
         // with about half the work: Gaussians by depth once, then keys by tile id alone.
         cmd_.begin_pass("depth sort");
         sort_.sort(cmd_, depth_keys_, order_, n, 32, sort::KeyWidth::Bits32);
         cmd_.begin_pass("scan");
-        cmd_.dispatch("render/gather_touched", {frame_, order_, touched_, touched_sorted_}, (n + 255) / 256);
+        cmd_.dispatch("render/gather_touched", {frame_, order_, touched_, touched_sorted_}, vk::ceil_div(n, 256));
         scan_.exclusive(cmd_, touched_sorted_, offsets_, n, &counters_, 0);
         cmd_.begin_pass("emit");
         cmd_.dispatch("render/emit_keys", {frame_, splats_, order_, touched_sorted_, offsets_, rects_, keys_, values_},
-                      (n + 255) / 256);
+                      vk::ceil_div(n, 256));
         cmd_.begin_pass("tile sort");
         sort_.sort_indirect(cmd_, keys_, values_, counters_, 0, capacity_, tile_bits, sort::KeyWidth::Bits32);
         cmd_.begin_pass("ranges");
         cmd_.fill(ranges_, 0);
-        cmd_.dispatch("common/indirect_args", {counters_, args_}, ArgsPush{0, 256, group_limit, 0, capacity_}, 1);
+        const vk::gpu::IndirectArgsPush args{0, 256, group_limit, 0, capacity_};
+        cmd_.dispatch("common/indirect_args", {counters_, args_}, args, 1);
         cmd_.dispatch_indirect("render/tile_ranges", {frame_, counters_, keys_, ranges_}, args_);
         cmd_.begin_pass("blend");
         cmd_.dispatch_2d("render/blend", {frame_, splats_, values_, ranges_, image_, aux_}, tiles_x, tiles_y);
@@ -152,8 +150,8 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     }
 }
 
-uint32_t Renderer::tiles_x() const { return (uint32_t(width_) + gpu::kTileSize - 1) / gpu::kTileSize; }
-uint32_t Renderer::tiles_y() const { return (uint32_t(height_) + gpu::kTileSize - 1) / gpu::kTileSize; }
+uint32_t Renderer::tiles_x() const { return vk::ceil_div(uint32_t(width_), gpu::kTileSize); }
+uint32_t Renderer::tiles_y() const { return vk::ceil_div(uint32_t(height_), gpu::kTileSize); }
 
 PixelPick Renderer::pick(int x, int y) {
     if (!last_scene_) throw std::logic_error("Renderer::pick: nothing was rendered");

@@ -10,8 +10,6 @@
 
 namespace pg::seg {
 
-using gpu::graph_groups;
-
 namespace {
 
 
@@ -109,6 +107,7 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     gpu::GraphGridPush grid{glm::vec4(lo, 1.0f / cell_), glm::uvec4(dims, o.shells), glm::uvec4(bits.x, bits.y, n, k)};
     gpu::GraphWeightsPush wpush{glm::vec4(o.colour, o.normal, o.distance, o.opacity), {n, k, 0, 0}};
     gpu::GraphEdgesPush epush{{n, k, uint32_t(entries), 0}};
+    const auto graph_groups = [](uint64_t items) { return vk::ceil_div(items, gpu::kGraphGroup); };
 
     cmd_.begin_pass("graph nodes");
     cmd_.dispatch("segment/graph_nodes", {scene.means, scene.shapes, scene.sh, domain_buf_, pos_, colour_, normal_},

@@ -16,7 +16,7 @@ constexpr int kMaxRadius = 255;
 // Scratch of the global-memory closing variant; larger radii run in waves of tiles.
 constexpr VkDeviceSize kScratchBudget = VkDeviceSize(32) << 20;
 
-uint64_t ceil_div(uint64_t a, uint64_t b) { return (a + b - 1) / b; }
+using vk::ceil_div;
 
 }  // namespace
 

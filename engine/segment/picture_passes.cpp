@@ -5,7 +5,7 @@
 namespace pg::seg {
 
 namespace {
-uint32_t groups(int pixels) { return (uint32_t(pixels) + gpu::kPictureSide - 1) / gpu::kPictureSide; }
+uint32_t groups(int pixels) { return vk::ceil_div(uint32_t(pixels), gpu::kPictureSide); }
 }  // namespace
 
 PicturePasses::PicturePasses(vk::Context& ctx) : none_(ctx, 16, vk::MemoryUse::Device, "picture: no labels") {}

@@ -7,6 +7,7 @@
 
 #include "dataset/error.h"
 #include "engine/vk/context.h"
+#include "shaders/segment/prompt_shared.h"
 
 namespace pg::seg {
 
@@ -61,17 +62,6 @@ Anchor anchor_at_point(const data::GaussianCloud& cloud, const glm::dvec3& point
     return a;
 }
 
-namespace {
-struct WeightsPush {
-    uint32_t count, anchor_count;
-    float inv_two_sigma2, half_length, half_width, pad0, pad1, pad2;
-    glm::vec4 centre, length_axis, width_axis;
-};
-struct CompactPush {
-    uint32_t count;
-};
-}  // namespace
-
 PromptEncoder::PromptEncoder(vk::Context& ctx)
     : ctx_(ctx),
       cmd_(ctx),
@@ -99,21 +89,22 @@ EncodedPrompt PromptEncoder::encode(const render::GpuScene& scene, const std::ve
     indices_.ensure(uint64_t(n) * 4);
     roi_weights_.ensure(uint64_t(n) * 8);
 
-    WeightsPush push{n,
-                     uint32_t(a.size()),
-                     float(1.0 / (2.0 * sigma * sigma)),
-                     float(roi.length / 2),
-                     float(roi.width / 2),
-                     0, 0, 0,
-                     glm::vec4(glm::vec3(roi.centre), 0),
-                     glm::vec4(glm::vec3(roi.length_axis), 0),
-                     glm::vec4(glm::vec3(roi.width_axis), 0)};
+    gpu::ClickWeightsPush push{n,
+                               uint32_t(a.size()),
+                               float(1.0 / (2.0 * sigma * sigma)),
+                               float(roi.length / 2),
+                               float(roi.width / 2),
+                               0, 0, 0,
+                               glm::vec4(glm::vec3(roi.centre), 0),
+                               glm::vec4(glm::vec3(roi.length_axis), 0),
+                               glm::vec4(glm::vec3(roi.width_axis), 0)};
     cmd_.begin_pass("click weights");
-    cmd_.dispatch("segment/click_weights", {scene.means, anchors_, weights_, flags_}, push, (n + 255) / 256);
+    cmd_.dispatch("segment/click_weights", {scene.means, anchors_, weights_, flags_}, push,
+                  vk::ceil_div(n, gpu::kPromptGroup));
     cmd_.begin_pass("roi");
     scan_.exclusive(cmd_, flags_, offsets_, n, &total_, 0);
-    cmd_.dispatch("segment/roi_compact", {flags_, offsets_, weights_, indices_, roi_weights_}, CompactPush{n},
-                  (n + 255) / 256);
+    cmd_.dispatch("segment/roi_compact", {flags_, offsets_, weights_, indices_, roi_weights_}, gpu::RoiCompactPush{n},
+                  vk::ceil_div(n, gpu::kPromptGroup));
     cmd_.end_pass();
     cmd_.submit_and_wait();
     timings_ = cmd_.timings();

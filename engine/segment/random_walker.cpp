@@ -8,8 +8,6 @@
 
 namespace pg::seg {
 
-using gpu::graph_groups;
-
 RandomWalker::RandomWalker(vk::Context& ctx) : ctx_(ctx), cmd_(ctx) {
     for (auto* b : {&seed_, &gamma_, &prior_, &x_, &b_, &inv_diag_, &r_, &z_, &p_, &ap_, &partials_, &scalars_, &edges_})
         *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "random walker");
@@ -33,7 +31,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
     out.x.assign(size_t(n) * total, 0.0f);
     if (n == 0 || total == 0) return out;
 
-    const uint32_t node_groups = graph_groups(n);
+    const uint32_t node_groups = vk::ceil_div(n, gpu::kGraphGroup);
     std::vector<float> gamma = pr.gamma.empty() ? std::vector<float>(n, 0.0f) : pr.gamma;
     seed_.ensure(uint64_t(n) * 4);
     gamma_.ensure(uint64_t(n) * 4);
@@ -77,7 +75,8 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
         cmd_.begin_pass("walk start");
         cmd_.dispatch("segment/walk_rhs", {rows, entries, nbr, w, deg, seed_, gamma_, prior_, x_, b_, inv_diag_},
                       push[0], node_groups);
-        cmd_.dispatch("segment/walk_edges", {entries, nbr, w, seed_, rows, edges_}, push[0], graph_groups(2ull * n * graph.k()));
+        cmd_.dispatch("segment/walk_edges", {entries, nbr, w, seed_, rows, edges_}, push[0],
+                      vk::ceil_div(2ull * n * graph.k(), gpu::kGraphGroup));
         cmd_.dispatch("segment/walk_apply", {rows, edges_, deg, seed_, gamma_, x_, ap_, partials_}, push[0], node_groups);
         cmd_.dispatch("segment/walk_residual", {b_, ap_, inv_diag_, r_, z_, p_, partials_}, push[3], node_groups);
         cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[3], reduce_groups);

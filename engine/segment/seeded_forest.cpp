@@ -9,8 +9,6 @@
 
 namespace pg::seg {
 
-using gpu::graph_groups;
-
 SeededForest::SeededForest(vk::Context& ctx) : ctx_(ctx), cmd_(ctx) {
     for (auto* b : {&seed_, &state_[0], &state_[1], &changed_}) *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "seeded forest");
 }
@@ -48,7 +46,7 @@ ForestResult SeededForest::solve(const KnnGraph& graph, const std::vector<int32_
                 cmd_.dispatch("segment/forest_step",
                               {graph.rows(), graph.entries(), graph.neighbour_buffer(), graph.weight_buffer(), seed_,
                                state_[current], state_[current ^ 1], changed_},
-                              push, graph_groups(n));
+                              push, vk::ceil_div(n, gpu::kGraphGroup));
                 current ^= 1;
             }
             cmd_.end_pass();

@@ -15,7 +15,7 @@ constexpr uint32_t kBlock = PG_SORT_BLOCK;
 // The largest minStorageBufferOffsetAlignment Vulkan allows: windows start on it.
 constexpr VkDeviceSize kBindAlign = 256;
 
-uint32_t blocks(uint64_t n) { return uint32_t((n + kBlock - 1) / kBlock); }
+uint32_t blocks(uint64_t n) { return vk::ceil_div(n, kBlock); }
 
 vk::BufferRange words(const vk::Buffer& b, uint64_t first, uint64_t count) {
     return vk::BufferRange(b, first * 4, std::max<uint64_t>(count, 1) * 4);

@@ -17,7 +17,7 @@ constexpr uint32_t kRadix = PG_SORT_RADIX;
 constexpr uint32_t kDigitBits = PG_SORT_DIGIT_BITS;
 constexpr VkDeviceSize kBindAlign = 256;  // the largest minStorageBufferOffsetAlignment allowed
 
-uint32_t blocks(uint32_t n) { return uint32_t((uint64_t(n) + kBlock - 1) / kBlock); }
+uint32_t blocks(uint32_t n) { return vk::ceil_div(n, kBlock); }
 uint32_t key_words(KeyWidth w) { return w == KeyWidth::Bits64 ? 2 : 1; }
 
 void check_arguments(const vk::Buffer& keys, const vk::Buffer& values, uint32_t items, uint32_t key_bits,
@@ -59,7 +59,7 @@ void RadixSort::sort(vk::CommandList& cmd, vk::Buffer& keys, vk::Buffer& values,
     // The host knows the count: write what sort/radix_setup would compute.
     const uint32_t groups = blocks(count), limit = ctx_.max_group_count_x();
     const uint32_t params[PG_SORT_PARAM_WORDS] = {groups <= limit ? groups : limit,
-                                                  groups <= limit ? 1 : (groups + limit - 1) / limit, 1, count};
+                                                  groups <= limit ? 1 : vk::ceil_div(groups, limit), 1, count};
     cmd.update(params_, params, sizeof params);
     record(cmd, keys, values, count, key_bits, width);
 }
@@ -112,7 +112,7 @@ void RadixSort::record(vk::CommandList& cmd, vk::Buffer& keys, vk::Buffer& value
 
     // Blocks past the GPU count never write their histogram entries: they must read as zero.
     cmd.fill(histogram_, 0, 0, VkDeviceSize(table) * 4);
-    const uint32_t passes = (key_bits + kDigitBits - 1) / kDigitBits;
+    const uint32_t passes = vk::ceil_div(key_bits, kDigitBits);
     for (uint32_t pass = 0; pass < passes; ++pass) {
         const bool from_user = pass % 2 == 0;
         const vk::BufferRange& src_keys = from_user ? user_keys : tmp_keys;

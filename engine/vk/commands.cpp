@@ -122,7 +122,7 @@ void CommandList::dispatch_raw(const std::string& shader, std::initializer_list<
     bind(shader, buffers, push, push_bytes);
     const uint64_t limit = ctx_.max_group_count_x();
     if (groups_y == 1 && groups_x > limit) {
-        uint64_t rows = (groups_x + limit - 1) / limit;
+        uint64_t rows = ceil_div(groups_x, limit);
         if (rows > ctx_.info().max_group_count[1])
             throw std::runtime_error(shader + ": dispatch of " + std::to_string(groups_x) + " groups is too large");
         // Folded grid: the shader skips the ids past groups_x in the last row.

@@ -26,6 +26,11 @@ struct BufferRange {
     VkDeviceSize size = VK_WHOLE_SIZE;
 };
 
+// Workgroups of `per_group` invocations covering n items (or tiles, blocks, chunks of a size):
+// the rounding-up division behind every dispatch, in one place. Counts fit 32 bits, as the
+// shaders index in 32 bits.
+constexpr uint32_t ceil_div(uint64_t n, uint64_t per_group) { return uint32_t((n + per_group - 1) / per_group); }
+
 struct PassTiming {
     std::string name;
     double ms;

@@ -15,7 +15,20 @@ void require(bool ok, const std::string& what) {
     if (!ok) throw std::invalid_argument("window_attention: " + what);
 }
 
+constexpr AttentionShaders kAttentionShaders[] = {
+    {8, "nn/attention_d8", "nn/attention_cpu_d8", "nn/grad_attention_dq_d8", "nn/grad_attention_dkv_d8"},
+    {16, "nn/attention_d16", "nn/attention_cpu_d16", "nn/grad_attention_dq_d16", "nn/grad_attention_dkv_d16"},
+    {32, "nn/attention_d32", "nn/attention_cpu_d32", "nn/grad_attention_dq_d32", "nn/grad_attention_dkv_d32"},
+    {64, "nn/attention_d64", "nn/attention_cpu_d64", "nn/grad_attention_dq_d64", "nn/grad_attention_dkv_d64"},
+};
+
 }  // namespace
+
+const AttentionShaders* attention_shaders(int64_t head_dim) {
+    for (const AttentionShaders& s : kAttentionShaders)
+        if (s.head_dim == head_dim) return &s;
+    return nullptr;
+}
 
 Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, const Tensor& order,
                         const Tensor& offsets, int heads, int patch, float scale) {
@@ -30,8 +43,8 @@ Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, con
     require(heads > 0 && channels % heads == 0,
             std::to_string(channels) + " channels do not split into " + std::to_string(heads) + " heads");
     const int64_t head_dim = channels / heads;
-    require(head_dim == 8 || head_dim == 16 || head_dim == 32 || head_dim == 64,
-            "head dimension " + std::to_string(head_dim) + " is not one of 8, 16, 32, 64");
+    const AttentionShaders* kernels = attention_shaders(head_dim);
+    require(kernels, "head dimension " + std::to_string(head_dim) + " is not one of 8, 16, 32, 64");
     require(order.dtype == DType::I32 && order.shape == std::vector<int64_t>{n},
             "order must be i32 [" + std::to_string(n) + "], got " + dtype_name(order.dtype) + " " +
                 order.shape_string());
@@ -65,9 +78,9 @@ Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, con
 
     Tensor kv = pool.empty({heads, n, 2 * head_dim}, DType::F32);
     cmd.dispatch("nn/attention_gather", {qkv, order, kv}, push,
-                 (uint64_t(kv.numel() / 4) + PG_ATTN_GATHER_THREADS - 1) / PG_ATTN_GATHER_THREADS);
-    const std::string shader = std::string(cpu ? "nn/attention_cpu_d" : "nn/attention_d") + std::to_string(d);
-    cmd.dispatch(shader, {qkv, order, offsets, out, kv}, push, uint64_t(push.chunks) * uint64_t(heads));
+                 vk::ceil_div(uint64_t(kv.numel() / 4), PG_ATTN_GATHER_THREADS));
+    cmd.dispatch(cpu ? kernels->cpu : kernels->gpu, {qkv, order, offsets, out, kv}, push,
+                 uint64_t(push.chunks) * uint64_t(heads));
     return out;
 }
 

@@ -25,4 +25,16 @@ enum class AttentionKernel { Auto, Gpu, Cpu };
 Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, const Tensor& order,
                         const Tensor& offsets, int heads, int patch, float scale, AttentionKernel kernel);
 
+// The kernels compiled for one head dimension (a compile-time constant of each:
+// shaders/nn/*attention*_d*.comp), forward and backward (nn/train/grad_attention) in one list,
+// so both accept the same dimensions. Null for a head dimension without kernels.
+struct AttentionShaders {
+    int64_t head_dim;
+    const char* gpu;  // forward, AttentionKernel::Gpu
+    const char* cpu;  // forward, AttentionKernel::Cpu
+    const char* dq;   // backward: dq and the softmax statistics
+    const char* dkv;  // backward: dk, dv
+};
+const AttentionShaders* attention_shaders(int64_t head_dim);
+
 }  // namespace pg::nn::ops

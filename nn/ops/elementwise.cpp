@@ -3,11 +3,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "shaders/nn/elementwise_shared.glsl"
+
 namespace pg::nn::ops {
 
 namespace {
 
-uint32_t ceil_div(uint64_t a, uint64_t b) { return uint32_t((a + b - 1) / b); }
+using vk::ceil_div;
 
 void expect(bool ok, const std::string& message) {
     if (!ok) throw std::invalid_argument(message);
@@ -34,10 +36,8 @@ Tensor gelu_or_erf(vk::CommandList& cmd, Pool& pool, const Tensor& x, bool erf_o
     Tensor y = pool.empty(x.shape);
     if (n == 0) return y;
     const bool wide = n % 8 == 0;
-    struct {
-        uint32_t n, wide, erf_only;
-    } push{uint32_t(n), wide, erf_only};
-    cmd.dispatch("nn/gelu", {x, x, y, y}, push, ceil_div(wide ? n / 8 : n, 256));
+    const gpu::GeluPush push{uint32_t(n), wide, erf_only};
+    cmd.dispatch("nn/gelu", {x, x, y, y}, push, ceil_div(wide ? n / 8 : n, PG_ELEMENTWISE_THREADS));
     return y;
 }
 
@@ -55,10 +55,8 @@ Tensor add(vk::CommandList& cmd, Pool& pool, const Tensor& a, const Tensor& b) {
     Tensor y = pool.empty(a.shape);
     if (n == 0) return y;
     const bool wide = n % 8 == 0;
-    struct {
-        uint32_t n, wide;
-    } push{uint32_t(n), wide};
-    cmd.dispatch("nn/add", {a, a, b, b, y, y}, push, ceil_div(wide ? n / 8 : n, 256));
+    const gpu::AddPush push{uint32_t(n), wide};
+    cmd.dispatch("nn/add", {a, a, b, b, y, y}, push, ceil_div(wide ? n / 8 : n, PG_ELEMENTWISE_THREADS));
     return y;
 }
 
@@ -74,10 +72,9 @@ Tensor gather_rows(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tens
     if (rows == 0 || words == 0) return y;
     expect(x.dim(0) > 0, "gather_rows: x " + x.shape_string() + " has no rows to gather");
     const bool wide = words % 8 == 0;
-    struct {
-        uint32_t rows, words, wide;
-    } push{uint32_t(rows), uint32_t(words), wide};
-    cmd.dispatch("nn/gather_rows", {x, x, idx, y, y}, push, ceil_div(rows * (wide ? words / 8 : words), 256));
+    const gpu::GatherRowsPush push{uint32_t(rows), uint32_t(words), wide};
+    cmd.dispatch("nn/gather_rows", {x, x, idx, y, y}, push,
+                 ceil_div(rows * (wide ? words / 8 : words), PG_ELEMENTWISE_THREADS));
     return y;
 }
 
@@ -93,10 +90,9 @@ Tensor add_gathered(vk::CommandList& cmd, Pool& pool, const Tensor& a, const Ten
     if (rows == 0 || c == 0) return y;
     expect(x.dim(0) > 0, "add_gathered: x " + x.shape_string() + " has no rows to gather");
     const bool wide = c % 8 == 0;
-    struct {
-        uint32_t rows, c, wide;
-    } push{uint32_t(rows), uint32_t(c), wide};
-    cmd.dispatch("nn/add_gathered", {a, a, x, x, idx, y, y}, push, ceil_div(rows * (wide ? c / 8 : c), 256));
+    const gpu::AddGatheredPush push{uint32_t(rows), uint32_t(c), wide};
+    cmd.dispatch("nn/add_gathered", {a, a, x, x, idx, y, y}, push,
+                 ceil_div(rows * (wide ? c / 8 : c), PG_ELEMENTWISE_THREADS));
     return y;
 }
 

@@ -28,7 +28,42 @@ struct Gemm {
     bool gelu = false;
 };
 
-uint32_t ceil_div(uint64_t a, uint64_t b) { return uint32_t((a + b - 1) / b); }
+using vk::ceil_div;
+
+// The lanes kernels there are (shaders/nn/linear_lanes_*.comp) and what each was compiled for
+// (gemm_lanes.glsl's WG, KC, A_VEC, Y_VEC, GELU): one list to read, and a combination that was
+// never compiled fails here, by name.
+struct LanesVariant {
+    uint32_t wg, kc;
+    bool a_vec, y_vec, gelu;
+    const char* shader;
+};
+constexpr LanesVariant kLanesVariants[] = {
+    {64, 32, false, false, false, "nn/linear_lanes_w64_k32_aone_yone"},
+    {64, 32, false, true, false, "nn/linear_lanes_w64_k32_aone_yvec"},
+    {64, 32, true, false, false, "nn/linear_lanes_w64_k32_avec_yone"},
+    {64, 32, true, true, false, "nn/linear_lanes_w64_k32_avec_yvec"},
+    {64, 32, true, true, true, "nn/linear_lanes_w64_k32_avec_yvec_gelu"},
+    {64, 64, true, false, false, "nn/linear_lanes_w64_k64_avec_yone"},
+    {64, 64, true, true, false, "nn/linear_lanes_w64_k64_avec_yvec"},
+    {64, 64, true, true, true, "nn/linear_lanes_w64_k64_avec_yvec_gelu"},
+    {256, 32, false, false, false, "nn/linear_lanes_w256_k32_aone_yone"},
+    {256, 32, false, true, false, "nn/linear_lanes_w256_k32_aone_yvec"},
+    {256, 32, true, false, false, "nn/linear_lanes_w256_k32_avec_yone"},
+    {256, 32, true, true, false, "nn/linear_lanes_w256_k32_avec_yvec"},
+    {256, 32, true, true, true, "nn/linear_lanes_w256_k32_avec_yvec_gelu"},
+    {256, 64, true, false, false, "nn/linear_lanes_w256_k64_avec_yone"},
+    {256, 64, true, true, false, "nn/linear_lanes_w256_k64_avec_yvec"},
+    {256, 64, true, true, true, "nn/linear_lanes_w256_k64_avec_yvec_gelu"},
+};
+
+const char* lanes_shader(uint32_t wg, uint32_t kc, bool a_vec, bool y_vec, bool gelu) {
+    for (const LanesVariant& v : kLanesVariants)
+        if (v.wg == wg && v.kc == kc && v.a_vec == a_vec && v.y_vec == y_vec && v.gelu == gelu) return v.shader;
+    throw std::logic_error("linear: no lanes kernel for " + std::to_string(wg) + " rows, depth " + std::to_string(kc) +
+                           (a_vec ? ", vector A" : ", scalar A") + (y_vec ? ", vector y" : ", scalar y") +
+                           (gelu ? ", GELU" : ""));
+}
 
 void expect_f32(const Tensor& t, const char* op, const char* what) {
     if (t.dtype != DType::F32)
@@ -50,7 +85,7 @@ bool run_lanes(vk::CommandList& cmd, const Gemm& g, const Tensor& y) {
     const uint32_t wg = g.M <= 128 ? 64 : 256;  // fewer idle lanes for short matrices
     const bool a_vec = g.K % 8 == 0 && g.K > 0 && (g.nbr ? g.cin % 32 == 0 : g.cin % 8 == 0);
     const bool y_vec = g.N % 8 == 0;
-    const bool fused_gelu = g.gelu && a_vec && y_vec;  // the variants that exist
+    const bool fused_gelu = g.gelu && a_vec && y_vec;  // the variants that exist (kLanesVariants)
     gpu::GemmPush push{g.M, g.N, g.K, 0, 0, g.cin, g.taps, ceil_div(g.N, PG_LANES_NC)};
     const uint64_t groups = uint64_t(ceil_div(g.M, wg)) * push.col_tiles;
     const Tensor& bias = g.bias.defined() ? g.bias : g.w;  // unused bindings get any buffer
@@ -61,9 +96,7 @@ bool run_lanes(vk::CommandList& cmd, const Gemm& g, const Tensor& y) {
         // Scalar A loads make big shaders that buy little from deeper chunks: 32 for them.
         const uint32_t kc = a_vec && g.K - k0 > 32 ? 64 : 32;
         const bool last = k0 + kc >= g.K;
-        const std::string shader = "nn/linear_lanes_w" + std::to_string(wg) + "_k" + std::to_string(kc) +
-                                   (a_vec ? "_avec" : "_aone") + (y_vec ? "_yvec" : "_yone") +
-                                   (last && fused_gelu ? "_gelu" : "");
+        const char* shader = lanes_shader(wg, kc, a_vec, y_vec, last && fused_gelu);
         push.k0 = k0;
         push.flags = flags_of(g) | (k0 == 0 ? PG_GEMM_FIRST : 0u);
         cmd.dispatch(shader, {g.x, g.w, bias, res, y, nbr}, push, groups);

@@ -5,11 +5,13 @@
 #include <string>
 #include <utility>
 
+#include "shaders/nn/elementwise_shared.glsl"
+
 namespace pg::nn::ops {
 
 namespace {
 
-uint32_t ceil_div(uint64_t a, uint64_t b) { return uint32_t((a + b - 1) / b); }
+using vk::ceil_div;
 
 // Rows and channels of x [M, C] (a rank-1 x is one row); checks the per-channel vectors.
 void check(const char* op, const Tensor& x, std::initializer_list<std::pair<const char*, const Tensor*>> params,
@@ -38,12 +40,10 @@ Tensor layer_norm(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tenso
                                     x.shape_string());
     Tensor y = pool.empty(x.shape);
     if (rows == 0 || c == 0) return y;
-    struct {
-        uint32_t rows, c, wide, residual;
-        float eps;
-    } push{uint32_t(rows), uint32_t(c), c % 8 == 0, residual.defined(), eps};
+    const gpu::LayerNormPush push{uint32_t(rows), uint32_t(c), c % 8 == 0, residual.defined(), eps};
     const Tensor& res = residual.defined() ? residual : x;  // bound but unread without a residual
-    cmd.dispatch("nn/layer_norm", {x, x, gamma, gamma, beta, beta, res, res, y, y}, push, ceil_div(rows, 64));
+    cmd.dispatch("nn/layer_norm", {x, x, gamma, gamma, beta, beta, res, res, y, y}, push,
+                 ceil_div(rows, PG_NORM_THREADS));
     return y;
 }
 
@@ -53,14 +53,11 @@ Tensor batch_norm(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tenso
     check("batch_norm", x, {{"mean", &mean}, {"var", &var}, {"gamma", &gamma}, {"beta", &beta}}, rows, c);
     Tensor y = pool.empty(x.shape);
     if (rows == 0 || c == 0) return y;
-    struct {
-        uint32_t rows, c, wide, gelu;
-        float eps;
-    } push{uint32_t(rows), uint32_t(c), c % 8 == 0, gelu, eps};
+    const gpu::BatchNormPush push{uint32_t(rows), uint32_t(c), c % 8 == 0, gelu, eps};
     const uint64_t groups = c % 8 == 0 ? c / 8 : c;
-    const uint64_t invocations = groups * ceil_div(rows, 8);  // 8 rows each, see batch_norm.comp
+    const uint64_t invocations = groups * ceil_div(rows, PG_BATCH_NORM_ROWS);
     cmd.dispatch("nn/batch_norm", {x, x, mean, mean, var, var, gamma, gamma, beta, beta, y, y}, push,
-                 ceil_div(invocations, 64));
+                 ceil_div(invocations, PG_NORM_THREADS));
     return y;
 }
 

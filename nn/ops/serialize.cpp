@@ -39,7 +39,7 @@ void expect(const char* op, const char* name, const Tensor& t, DType dtype, std:
                                                         : std::string("an undefined tensor")));
 }
 
-uint64_t groups(uint64_t threads) { return (threads + PG_INDEX_THREADS - 1) / PG_INDEX_THREADS; }
+uint64_t groups(uint64_t threads) { return vk::ceil_div(threads, PG_INDEX_THREADS); }
 
 Tensor info_tensor(vk::CommandList& cmd, Pool& pool) {
     Tensor info = pool.empty({PG_INFO_WORDS}, DType::U32);

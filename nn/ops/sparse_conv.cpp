@@ -15,7 +15,7 @@ namespace {
 
 constexpr uint64_t kMaxIndex = 0xFFFFFFFFull;  // shaders index in 32 bits
 
-uint32_t ceil_div(uint64_t a, uint64_t b) { return uint32_t((a + b - 1) / b); }
+using vk::ceil_div;
 
 void check_size(uint64_t n) {
     if (n > kMaxIndex) throw std::invalid_argument("sparse_conv: tensor too large for 32-bit indexing");
@@ -69,6 +69,31 @@ uint32_t lanes_chunk(int64_t cin) {
     return kc;
 }
 
+// The lanes rulebook kernels there are (shaders/nn/conv_lanes_*.comp): pairs per workgroup and
+// chunk depth are compile-time constants of each (gemm_lanes.glsl's WG and KC).
+struct ConvLanesVariant {
+    uint32_t wg, kc;
+    const char* shader;
+};
+constexpr ConvLanesVariant kConvLanesVariants[] = {
+    {32, 16, "nn/conv_lanes_w32_k16"},
+    {32, 32, "nn/conv_lanes_w32_k32"},
+    {32, 64, "nn/conv_lanes_w32_k64"},
+    {128, 16, "nn/conv_lanes_w128_k16"},
+    {128, 32, "nn/conv_lanes_w128_k32"},
+    {128, 64, "nn/conv_lanes_w128_k64"},
+    {256, 16, "nn/conv_lanes_w256_k16"},
+    {256, 32, "nn/conv_lanes_w256_k32"},
+    {256, 64, "nn/conv_lanes_w256_k64"},
+};
+
+const char* conv_lanes_shader(uint32_t wg, uint32_t kc) {
+    for (const ConvLanesVariant& v : kConvLanesVariants)
+        if (v.wg == wg && v.kc == kc) return v.shader;
+    throw std::logic_error("sparse_conv: no lanes kernel for " + std::to_string(wg) + " pairs, depth " +
+                           std::to_string(kc));
+}
+
 bool rulebook_in_range(vk::Context& ctx, int64_t M, int64_t T) {
     return uint64_t(M) * uint64_t(T) * 8 <= ctx.info().max_storage_buffer_range;
 }
@@ -117,8 +142,7 @@ Tensor sparse_conv(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Rule
                  ceil_div(uint64_t(T), 64));
     // Lanes kernels take one depth chunk (within a tap) per dispatch; tiled ones walk the tap.
     const uint32_t kc = lanes ? lanes_chunk(cin) : uint32_t(cin);
-    const std::string shader =
-        lanes ? "nn/conv_lanes_w" + std::to_string(wg) + "_k" + std::to_string(kc) : std::string("nn/conv_tiled");
+    const char* shader = lanes ? conv_lanes_shader(wg, kc) : "nn/conv_tiled";
     gpu::GemmPush push{uint32_t(M), uint32_t(N), uint32_t(T * cin), 0, 0, uint32_t(cin), uint32_t(T), col_tiles};
     for (int64_t t = 0; t < T; ++t)
         for (int64_t k = 0; k < cin; k += kc) {

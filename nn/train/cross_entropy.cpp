@@ -21,11 +21,11 @@ CrossEntropy cross_entropy(vk::CommandList& cmd, Pool& pool, const Tensor& logit
     CrossEntropy ce{pool.empty({1}), pool.empty(logits.shape), pool.empty({2}, DType::U32)};
     gpu::CrossEntropyPush push{uint32_t(M), uint32_t(K), ignore_label, 0};
     Tensor vals = pool.empty({M, PG_CE_VALUES});
-    if (M > 0) cmd.dispatch("nn/grad_cross_entropy_rows", {logits, labels, ce.dlogits, vals}, push, detail::ceil_div(M, 64));
+    if (M > 0) cmd.dispatch("nn/grad_cross_entropy_rows", {logits, labels, ce.dlogits, vals}, push, vk::ceil_div(M, 64));
     // Sums of (loss, counted, bad) in a fixed order: the same loss on every run.
     Tensor sums = detail::column_sums(cmd, pool, PG_COLSUM_PLAIN, vals, vals, vals, uint64_t(M), PG_CE_VALUES);
     cmd.dispatch("nn/grad_cross_entropy_finish", {sums, ce.dlogits, ce.loss, ce.info}, push,
-                 std::max<uint32_t>(1, detail::ceil_div(uint64_t(M) * K, PG_GRAD_THREADS)));
+                 std::max<uint32_t>(1, vk::ceil_div(uint64_t(M) * K, PG_GRAD_THREADS)));
     return ce;
 }
 

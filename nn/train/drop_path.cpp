@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "shaders/nn/grad_shared.glsl"
+
 namespace pg::nn::train {
 
 Tensor drop_path_mask(vk::CommandList& cmd, Pool& pool, int64_t rows, double rate, std::mt19937_64& rng) {
@@ -28,10 +30,8 @@ Tensor scale_rows(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tenso
     const uint64_t n = uint64_t(x.numel());
     if (n == 0) return y;
     if (n > 0xFFFFFFFFull) throw std::invalid_argument("scale_rows: tensor too large for 32-bit indexing");
-    struct {
-        uint32_t n, channels;
-    } push{uint32_t(n), uint32_t(x.dim(1))};
-    cmd.dispatch("nn/scale_rows", {x, scale, y}, push, uint32_t((n + 255) / 256));
+    const grad::gpu::ScaleRowsPush push{uint32_t(n), uint32_t(x.dim(1))};
+    cmd.dispatch("nn/scale_rows", {x, scale, y}, push, vk::ceil_div(n, PG_GRAD_THREADS));
     return y;
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "engine/vk/context.h"
+#include "nn/ops/attention.h"
 #include "nn/train/grad_reduce.h"
 #include "shaders/nn/grad_attention_config.glsl"
 
@@ -22,8 +23,8 @@ Tensor window_attention_backward(vk::CommandList& cmd, Pool& pool, const Tensor&
     require(heads > 0 && channels % heads == 0,
             std::to_string(channels) + " channels do not split into " + std::to_string(heads) + " heads");
     const int64_t head_dim = channels / heads;
-    require(head_dim == 8 || head_dim == 16 || head_dim == 32 || head_dim == 64,
-            "head dimension " + std::to_string(head_dim) + " is not one of 8, 16, 32, 64");
+    const ops::AttentionShaders* kernels = ops::attention_shaders(head_dim);
+    require(kernels, "head dimension " + std::to_string(head_dim) + " is not one of 8, 16, 32, 64");
     detail::expect(op, "order", order, DType::I32, {n});
     detail::expect(op, "dout", dout, DType::F32, {n, channels});
     require(offsets.dtype == DType::I32 && offsets.shape.size() == 1 && offsets.dim(0) >= 2,
@@ -51,12 +52,11 @@ Tensor window_attention_backward(vk::CommandList& cmd, Pool& pool, const Tensor&
 
     Tensor gathered = pool.empty({heads, n, 4 * head_dim}, DType::F32);
     cmd.dispatch("nn/grad_attention_gather", {qkv, order, dout, gathered}, push,
-                 detail::ceil_div(uint64_t(gathered.numel() / 4), PG_GRAD_ATTN_THREADS));
+                 vk::ceil_div(uint64_t(gathered.numel() / 4), PG_GRAD_ATTN_THREADS));
     Tensor stats = pool.empty({heads, n, 2}, DType::F32);
-    const std::string d = "_d" + std::to_string(head_dim);
-    const uint32_t groups = detail::ceil_div(uint64_t(heads) * uint64_t(n), PG_GRAD_ATTN_THREADS);
-    cmd.dispatch("nn/grad_attention_dq" + d, {gathered, order, offsets, stats, dqkv}, push, groups);
-    cmd.dispatch("nn/grad_attention_dkv" + d, {gathered, order, offsets, stats, dqkv}, push, groups);
+    const uint32_t groups = vk::ceil_div(uint64_t(heads) * uint64_t(n), PG_GRAD_ATTN_THREADS);
+    cmd.dispatch(kernels->dq, {gathered, order, offsets, stats, dqkv}, push, groups);
+    cmd.dispatch(kernels->dkv, {gathered, order, offsets, stats, dqkv}, push, groups);
     return dqkv;
 }
 

@@ -12,7 +12,7 @@ namespace pg::nn::grad {
 
 namespace {
 
-using detail::ceil_div;
+using vk::ceil_div;
 
 // w [rows, taps*cin] -> [cin, taps*rows], taps in mirrored order when `flip`.
 Tensor transpose_taps(vk::CommandList& cmd, Pool& pool, const Tensor& w, uint32_t rows, uint32_t cin, uint32_t taps,

@@ -10,7 +10,7 @@
 
 namespace pg::nn::grad {
 
-using detail::ceil_div;
+using vk::ceil_div;
 
 NormGrads layer_norm_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& gamma, const Tensor& dy,
                               float eps) {

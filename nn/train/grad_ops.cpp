@@ -13,7 +13,7 @@
 
 namespace pg::nn::grad {
 
-using detail::ceil_div;
+using vk::ceil_div;
 
 namespace {
 

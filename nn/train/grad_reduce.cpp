@@ -7,7 +7,7 @@
 
 namespace pg::nn::grad::detail {
 
-uint32_t ceil_div(uint64_t a, uint64_t b) { return uint32_t((a + b - 1) / b); }
+using vk::ceil_div;
 
 void expect(const char* op, const char* name, const Tensor& t, DType dtype, std::vector<int64_t> shape) {
     bool ok = t.defined() && t.dtype == dtype && t.shape.size() == shape.size();
@@ -26,7 +26,7 @@ void expect_small(const char* op, uint64_t n) {
     if (n > 0xFFFFFFFFull) throw std::invalid_argument(std::string(op) + ": tensor too large for 32-bit indexing");
 }
 
-uint32_t rows_per_chunk(uint64_t rows) { return uint32_t(std::max<uint64_t>(64, (rows + 255) / 256)); }
+uint32_t rows_per_chunk(uint64_t rows) { return uint32_t(std::max<uint64_t>(64, ceil_div(rows, 256))); }
 
 Tensor column_sums(vk::CommandList& cmd, Pool& pool, uint32_t mode, const Tensor& a, const Tensor& b, const Tensor& v,
                    uint64_t rows, uint64_t cols, float scale) {

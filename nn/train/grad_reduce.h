@@ -10,8 +10,6 @@
 
 namespace pg::nn::grad::detail {
 
-uint32_t ceil_div(uint64_t a, uint64_t b);
-
 // Throws std::invalid_argument naming the op unless t is defined with the dtype and shape
 // (-1: any size).
 void expect(const char* op, const char* name, const Tensor& t, DType dtype, std::vector<int64_t> shape);

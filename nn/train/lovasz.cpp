@@ -27,7 +27,7 @@ Lovasz lovasz_softmax(vk::CommandList& cmd, Pool& pool, const Tensor& logits, co
         return out;
     }
     const gpu::LovaszPush push{uint32_t(M), uint32_t(K), ignore_label, weight};
-    const uint32_t groups = detail::ceil_div(entries + 1, 64);
+    const uint32_t groups = vk::ceil_div(entries + 1, 64);
     Tensor keys = pool.empty({int64_t(entries)}, DType::U64);
     cmd.dispatch("nn/grad_lovasz_keys", {logits, labels, keys}, push, groups);
     // Class in the high word (`classes` for rows left out), inverted error bits in the low one.
@@ -40,7 +40,7 @@ Lovasz lovasz_softmax(vk::CommandList& cmd, Pool& pool, const Tensor& logits, co
     // The loss in a fixed order: the same value on every run.
     Tensor sum = detail::column_sums(cmd, pool, PG_COLSUM_PLAIN, terms, terms, terms, entries, 1);
     cmd.dispatch("nn/grad_lovasz_logits", {logits, labels, weights, sum, out.dlogits, out.loss}, push,
-                 detail::ceil_div(uint64_t(M), 64));
+                 vk::ceil_div(uint64_t(M), 64));
     return out;
 }
 

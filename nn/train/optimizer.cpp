@@ -3,13 +3,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "shaders/nn/grad_shared.glsl"
+
 namespace pg::nn::train {
 namespace {
-
-struct AdamWPush {
-    uint32_t count;
-    float lr, beta1, beta2, eps, weight_decay, bias1, bias2_sqrt;
-};
 
 // PyTorch's _annealing_cos: from `start` at pct 0 to `end` at pct 1.
 double anneal_cos(double start, double end, double pct) { return end + (start - end) / 2.0 * (std::cos(M_PI * pct) + 1); }
@@ -43,9 +40,9 @@ void AdamW::step(vk::CommandList& cmd, const std::vector<Tensor>& params, const 
             throw std::invalid_argument("AdamW: gradient " + std::to_string(i) + " has shape " + grads[i].shape_string() +
                                         ", its parameter " + params[i].shape_string());
         const uint32_t n = uint32_t(params[i].numel());
-        AdamWPush push{n, float(lr), float(beta1), float(options_.beta2), float(options_.eps),
-                       float(options_.weight_decay), float(bias1), float(std::sqrt(bias2))};
-        cmd.dispatch("nn/adamw", {params[i], grads[i], m_[i], v_[i]}, push, (uint64_t(n) + 255) / 256);
+        const grad::gpu::AdamWPush push{n, float(lr), float(beta1), float(options_.beta2), float(options_.eps),
+                                        float(options_.weight_decay), float(bias1), float(std::sqrt(bias2))};
+        cmd.dispatch("nn/adamw", {params[i], grads[i], m_[i], v_[i]}, push, vk::ceil_div(n, PG_GRAD_THREADS));
     }
 }
 

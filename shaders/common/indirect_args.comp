@@ -2,17 +2,12 @@
 // Turns a GPU-written item count into indirect dispatch arguments, so a frame never waits
 // for the host to read a count back.
 #extension GL_GOOGLE_include_directive : require
+#include "common/common_shared.h"
 #include "common/dispatch.glsl"
 layout(local_size_x = 1) in;
 layout(std430, binding = 0) readonly buffer Counts { uint counts[]; };
 layout(std430, binding = 1) writeonly buffer Args { uint args[]; };
-layout(push_constant) uniform Push {
-    uint count_index;     // which count
-    uint items_per_group; // items one workgroup handles
-    uint limit;           // the device's group-count limit along x
-    uint args_index;      // where the three uints go
-    uint clamp_count;     // counts are clamped to this (buffer capacity); 0 = no clamp
-} pc;
+layout(push_constant) uniform Push { IndirectArgsPush pc; };
 void main() {
     uint n = counts[pc.count_index];
     if (pc.clamp_count != 0u) n = min(n, pc.clamp_count);

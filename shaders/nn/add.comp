@@ -3,14 +3,15 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "common/dispatch.glsl"
-layout(local_size_x = 256) in;
+#include "nn/elementwise_shared.glsl"
+layout(local_size_x = PG_ELEMENTWISE_THREADS) in;
 layout(std430, binding = 0) readonly buffer A8 { u64vec4 a8[]; };
 layout(std430, binding = 1) readonly buffer A1 { float a1[]; };
 layout(std430, binding = 2) readonly buffer B8 { u64vec4 b8[]; };
 layout(std430, binding = 3) readonly buffer B1 { float b1[]; };
 layout(std430, binding = 4) writeonly buffer Y8 { u64vec4 y8[]; };
 layout(std430, binding = 5) writeonly buffer Y1 { float y1[]; };
-layout(push_constant) uniform PushBlock { uint n, wide; } pc;
+layout(push_constant) uniform PushBlock { AddPush pc; };
 
 uint64_t add2(uint64_t a, uint64_t b) {
     const vec2 s = uintBitsToFloat(unpack32(a)) + uintBitsToFloat(unpack32(b));

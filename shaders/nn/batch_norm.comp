@@ -5,8 +5,9 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "common/dispatch.glsl"
+#include "nn/elementwise_shared.glsl"
 #include "nn/erf.glsl"
-layout(local_size_x = 64) in;
+layout(local_size_x = PG_NORM_THREADS) in;
 layout(std430, binding = 0) readonly buffer X8 { u64vec4 x8[]; };
 layout(std430, binding = 1) readonly buffer X1 { float x1[]; };
 layout(std430, binding = 2) readonly buffer Mean8 { u64vec4 mean8[]; };
@@ -19,9 +20,9 @@ layout(std430, binding = 8) readonly buffer Beta8 { u64vec4 beta8[]; };
 layout(std430, binding = 9) readonly buffer Beta1 { float beta1[]; };
 layout(std430, binding = 10) writeonly buffer Y8 { u64vec4 y8[]; };
 layout(std430, binding = 11) writeonly buffer Y1 { float y1[]; };
-layout(push_constant) uniform PushBlock { uint rows, c, wide, gelu; float eps; } pc;
+layout(push_constant) uniform PushBlock { BatchNormPush pc; };
 
-const uint kRowsPerInvocation = 8u;
+const uint kRowsPerInvocation = PG_BATCH_NORM_ROWS;
 
 // 8 floats as two vec4s, low word first.
 void unpack8(u64vec4 v, out vec4 lo, out vec4 hi) {

@@ -4,13 +4,14 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "common/dispatch.glsl"
-layout(local_size_x = 256) in;
+#include "nn/elementwise_shared.glsl"
+layout(local_size_x = PG_ELEMENTWISE_THREADS) in;
 layout(std430, binding = 0) readonly buffer X8 { u64vec4 x8[]; };
 layout(std430, binding = 1) readonly buffer X1 { uint x1[]; };
 layout(std430, binding = 2) readonly buffer Idx { int idx[]; };
 layout(std430, binding = 3) writeonly buffer Y8 { u64vec4 y8[]; };
 layout(std430, binding = 4) writeonly buffer Y1 { uint y1[]; };
-layout(push_constant) uniform PushBlock { uint rows, words, wide; } pc;
+layout(push_constant) uniform PushBlock { GatherRowsPush pc; };
 
 void main() {
     const uint i = pg_global_index();

@@ -4,13 +4,14 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "common/dispatch.glsl"
+#include "nn/elementwise_shared.glsl"
 #include "nn/erf.glsl"
-layout(local_size_x = 256) in;
+layout(local_size_x = PG_ELEMENTWISE_THREADS) in;
 layout(std430, binding = 0) readonly buffer X8 { u64vec4 x8[]; };
 layout(std430, binding = 1) readonly buffer X1 { float x1[]; };
 layout(std430, binding = 2) writeonly buffer Y8 { u64vec4 y8[]; };
 layout(std430, binding = 3) writeonly buffer Y1 { float y1[]; };
-layout(push_constant) uniform PushBlock { uint n, wide, erf_only; } pc;
+layout(push_constant) uniform PushBlock { GeluPush pc; };
 
 float f(float x) { return pc.erf_only != 0u ? pg_erf(x) : pg_gelu(x); }
 

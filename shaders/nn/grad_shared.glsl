@@ -1,5 +1,6 @@
-// Push-constant layouts and tunables of the backward kernels (nn/train), shared by the C++ and
-// the shaders: one definition, no drift. Only 32-bit members, so C++ and std430 agree.
+// Push-constant layouts and tunables of the training kernels (nn/train: the backward ops, AdamW,
+// drop path), shared by the C++ and the shaders: one definition, no drift. Only 32-bit members,
+// so C++ and std430 agree.
 //
 // Every reduction here runs in a fixed order that depends on the shapes only (rows are cut into
 // chunks of a size chosen from the row count, each chunk summed in row order, then the chunk
@@ -84,6 +85,17 @@ struct LovaszPush {
     float scale;
 };
 
+// nn/adamw: one AdamW step over `count` parameters (bias1 = 1 - beta1^t, bias2_sqrt = sqrt(1 - beta2^t)).
+struct AdamWPush {
+    uint count;
+    float lr, beta1, beta2, eps, weight_decay, bias1, bias2_sqrt;
+};
+
+// nn/scale_rows: y[r, c] = x[r, c] * s[r] over n = rows * channels values.
+struct ScaleRowsPush {
+    uint n, channels;
+};
+
 // The per-row values nn/grad_cross_entropy_rows writes ([rows, PG_CE_VALUES]) and their sums.
 #define PG_CE_LOSS 0
 #define PG_CE_COUNTED 1
@@ -91,6 +103,8 @@ struct LovaszPush {
 #define PG_CE_VALUES 3
 
 #ifdef __cplusplus
+static_assert(sizeof(AdamWPush) == 32);
+static_assert(sizeof(ScaleRowsPush) == 8);
 }  // namespace pg::nn::grad::gpu
 #endif
 #endif

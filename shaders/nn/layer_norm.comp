@@ -7,7 +7,8 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "common/dispatch.glsl"
-layout(local_size_x = 64) in;
+#include "nn/elementwise_shared.glsl"
+layout(local_size_x = PG_NORM_THREADS) in;
 layout(std430, binding = 0) readonly buffer X8 { u64vec4 x8[]; };
 layout(std430, binding = 1) readonly buffer X1 { float x1[]; };
 layout(std430, binding = 2) readonly buffer G8 { u64vec4 g8[]; };
@@ -18,7 +19,7 @@ layout(std430, binding = 6) readonly buffer R8 { u64vec4 r8[]; };
 layout(std430, binding = 7) readonly buffer R1 { float r1[]; };
 layout(std430, binding = 8) writeonly buffer Y8 { u64vec4 y8[]; };
 layout(std430, binding = 9) writeonly buffer Y1 { float y1[]; };
-layout(push_constant) uniform PushBlock { uint rows, c, wide, residual; float eps; } pc;
+layout(push_constant) uniform PushBlock { LayerNormPush pc; };
 
 // 8 floats as two vec4s, low word first.
 void unpack8(u64vec4 v, out vec4 lo, out vec4 hi) {

@@ -4,23 +4,14 @@
 // the ROI column (|along length| <= l/2, |along width| <= w/2 around the anchor, any height).
 #extension GL_GOOGLE_include_directive : require
 #include "common/dispatch.glsl"
+#include "segment/prompt_shared.h"
 
-layout(local_size_x = 256) in;
+layout(local_size_x = kPromptGroup) in;
 layout(std430, binding = 0) readonly buffer Means { vec4 means[]; };      // xyz, opacity logit
 layout(std430, binding = 1) readonly buffer Anchors { vec4 anchors[]; };  // xyz, w: +1 positive / -1 negative
 layout(std430, binding = 2) writeonly buffer Weights { vec2 weights[]; }; // positive, negative
 layout(std430, binding = 3) writeonly buffer Roi { uint roi[]; };         // 1 inside, 0 outside
-layout(push_constant) uniform Push {
-    uint count;
-    uint anchor_count;
-    float inv_two_sigma2;
-    float half_length;
-    float half_width;
-    float pad0, pad1, pad2;
-    vec4 centre;       // ROI anchor
-    vec4 length_axis;  // unit, perpendicular to up
-    vec4 width_axis;
-} pc;
+layout(push_constant) uniform Push { ClickWeightsPush pc; };
 
 void main() {
     uint i = pg_global_index();

@@ -75,8 +75,6 @@ struct WalkScalars {
 };
 
 #ifdef __cplusplus
-// Workgroups of kGraphGroup invocations covering n items.
-inline uint32_t graph_groups(uint64_t n) { return uint32_t((n + kGraphGroup - 1) / kGraphGroup); }
 }  // namespace pg::seg::gpu
 #endif
 #endif

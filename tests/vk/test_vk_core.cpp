@@ -5,14 +5,13 @@
 #include "engine/vk/buffer.h"
 #include "engine/vk/commands.h"
 #include "engine/vk/context.h"
+#include "shaders/common/common_shared.h"
 #include "tests/gpu_fixture.h"
 
 using namespace pg;
 
-namespace {
-struct FillPush { uint32_t n, value; };
-struct ArgsPush { uint32_t count_index, items_per_group, limit, args_index, clamp_count; };
-}  // namespace
+using vk::gpu::FillPush;
+using vk::gpu::IndirectArgsPush;
 
 TEST_CASE("the context picks a device and reports it") {
     auto& ctx = test::gpu();
@@ -105,7 +104,7 @@ TEST_CASE("dispatches over the group-count limit are split, never refused") {
         vk::Buffer b(ctx, n * 4, vk::MemoryUse::Device, "fill");
         vk::CommandList cmd(ctx);
         cmd.fill(b, 0);
-        cmd.dispatch("common/fill_u32", {b}, FillPush{n, 5}, (n + 63) / 64);
+        cmd.dispatch("common/fill_u32", {b}, FillPush{n, 5}, vk::ceil_div(n, 64));
         cmd.submit_and_wait();
         auto out = vk::download_vector<uint32_t>(ctx, b, n);
         for (uint32_t i = 0; i < n; ++i) REQUIRE(out[i] == 5 + i);
@@ -127,7 +126,7 @@ TEST_CASE("indirect dispatch from a GPU-written count needs no host round trip")
         vk::CommandList cmd(ctx);
         cmd.fill(data, 0xFFFFFFFFu);
         cmd.update(counts, &n, 4);
-        cmd.dispatch("common/indirect_args", {counts, args}, ArgsPush{0, 64, ctx.max_group_count_x(), 0, 0}, 1);
+        cmd.dispatch("common/indirect_args", {counts, args}, IndirectArgsPush{0, 64, ctx.max_group_count_x(), 0, 0}, 1);
         cmd.dispatch_indirect("common/fill_u32", {data}, FillPush{n, 0}, args);
         cmd.submit_and_wait();
         auto out = vk::download_vector<uint32_t>(ctx, data, capacity);
@@ -142,11 +141,11 @@ TEST_CASE("dependent passes are ordered by automatic barriers and timed") {
     vk::Buffer a(ctx, n * 4, vk::MemoryUse::Device, "a"), b(ctx, n * 4, vk::MemoryUse::Device, "b");
     vk::CommandList cmd(ctx);
     cmd.begin_pass("fill");
-    cmd.dispatch("common/fill_u32", {a}, FillPush{n, 1}, (n + 63) / 64);
+    cmd.dispatch("common/fill_u32", {a}, FillPush{n, 1}, vk::ceil_div(n, 64));
     cmd.begin_pass("copy");
     cmd.copy(a, b, n * 4);
     cmd.begin_pass("overwrite");
-    cmd.dispatch("common/fill_u32", {a}, FillPush{n, 100}, (n + 63) / 64);
+    cmd.dispatch("common/fill_u32", {a}, FillPush{n, 100}, vk::ceil_div(n, 64));
     cmd.end_pass();
     cmd.submit_and_wait();
     auto vb = vk::download_vector<uint32_t>(ctx, b, n);
