@@ -102,6 +102,13 @@ struct SegmentResult {
     bool remove_object(int id);
 };
 
+// The Gaussians a graph solve runs over: the objects' ROI columns widened by the margin.
+struct GraphDomain {
+    std::vector<uint32_t> domain;  // node -> Gaussian
+    std::vector<int32_t> node_of;  // Gaussian -> node, -1 outside
+    std::vector<uint8_t> in_roi;   // per node: inside an object's ROI (else it seeds the background)
+};
+
 class Segmenter {
 public:
     Segmenter(vk::Context& ctx, const data::GaussianCloud& cloud, const render::GpuScene& scene,
@@ -123,10 +130,20 @@ private:
     void prepare(const data::ObjectPrompt& prompt, size_t index, const std::vector<Anchor>* lifted,
                  const SegmentOptions& o, ObjectResult& obj,
                  std::vector<float>& roi_probability, std::vector<uint32_t>& roi, SegmentResult& result);
-    // The joint random walk over the objects that did not fail.
+    // The graph decoders (segmenter_graph.cpp): every object that did not fail, solved together.
     void solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                      const std::vector<std::vector<uint32_t>>& rois, const std::vector<std::vector<float>>& probabilities,
                      SegmentResult& result);
+    // Each click seeds its nearest node and that node's neighbours with its object's label.
+    void seed_clicks(const std::vector<ObjectResult*>& objects, const GraphDomain& d, const std::vector<uint32_t>& nbr,
+                     WalkProblem& pr) const;
+    // ptv3+graph: the networks' confident probabilities as unary terms (and which networks are trusted).
+    void network_prior(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
+                       const std::vector<std::vector<uint32_t>>& rois,
+                       const std::vector<std::vector<float>>& probabilities, const GraphDomain& d, WalkProblem& pr);
+    // The random walk (warm or coarse start), then the forest where the walk is unsure (walk+forest).
+    void solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& objects, const std::vector<uint32_t>& domain,
+                    const std::vector<uint32_t>& nbr, WalkProblem& pr, SegmentResult& result);
     // The same problem by widest paths: the seeds, plus the network's confident labels.
     void solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>& objects, const std::vector<uint32_t>& domain,
                       const std::vector<uint32_t>& neighbours, const WalkProblem& problem, SegmentResult& result);

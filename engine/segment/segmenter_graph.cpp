@@ -1,0 +1,351 @@
+// The graph half of the Segmenter: the domain around the objects' ROIs, the kNN graph over it,
+// the seeds from the clicks, the network's prior (ptv3+graph), and the walk / forest solves.
+#include "engine/segment/segmenter.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "dataset/clicks/point_grid.h"
+#include "engine/vk/context.h"
+
+namespace pg::seg {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+// Per node: whether its connected component holds a seed, a prior or a coarse start (the
+// coarse graph, sparser, joins what the fine kNN graph splits); counts the others.
+std::vector<uint8_t> reached_components(const KnnGraph& graph, const std::vector<uint32_t>& nbr, const WalkProblem& pr,
+                                        GraphReport& report) {
+    const uint32_t n = graph.nodes(), k = graph.k();
+    std::vector<uint32_t> parent(n);
+    for (uint32_t i = 0; i < n; ++i) parent[i] = i;
+    auto find = [&](uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    for (uint32_t i = 0; i < n; ++i)
+        for (uint32_t t = 0; t < k; ++t)
+            if (uint32_t j = nbr[size_t(i) * k + t]; j < n) {
+                uint32_t a = find(i), b = find(j);
+                if (a != b) parent[std::max(a, b)] = std::min(a, b);
+            }
+    std::vector<uint8_t> root_reached(n, 0), seen(n, 0), reached(n, 0);
+    auto started = [&](uint32_t i) {
+        if (pr.start.empty()) return false;
+        for (uint32_t l = 0; l < pr.labels; ++l)
+            if (pr.start[size_t(i) * pr.labels + l] > 0) return true;
+        return false;
+    };
+    for (uint32_t i = 0; i < n; ++i)
+        if (pr.seed[i] >= 0 || (!pr.gamma.empty() && pr.gamma[i] > 0) || started(i)) root_reached[find(i)] = 1;
+    for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t r = find(i);
+        reached[i] = root_reached[r];
+        if (!reached[i]) {
+            ++report.unreached;
+            if (!seen[r]) seen[r] = 1, ++report.unreached_components;
+        }
+    }
+    return reached;
+}
+
+// What every solver reports of its graph and seeds.
+GraphReport graph_report(const KnnGraph& graph, GraphSolver solver, const std::vector<int32_t>& seed) {
+    GraphReport report;
+    report.solver = solver;
+    report.nodes = graph.nodes();
+    report.seeds = size_t(std::count_if(seed.begin(), seed.end(), [](int32_t s) { return s >= 0; }));
+    report.cell = graph.cell_side();
+    report.spacing = graph.median_spacing();
+    return report;
+}
+
+// The domain: every Gaussian within an ROI column widened by the margin. Between the ROI and
+// the margin lies the background's evidence of last resort: the object-scale rule's ROI.
+GraphDomain graph_domain(const data::GaussianCloud& cloud, const std::vector<ObjectResult*>& objects,
+                         const std::vector<std::vector<uint32_t>>& rois, double margin) {
+    GraphDomain d;
+    const size_t n = cloud.size();
+    std::vector<int32_t>& node_of = d.node_of;
+    std::vector<uint32_t>& domain = d.domain;
+    node_of.assign(n, -1);
+    for (size_t i = 0; i < n; ++i) {
+        glm::dvec3 mu(cloud.mean[i]);
+        for (auto* obj : objects) {
+            const RoiBox& r = obj->roi;
+            glm::dvec3 rel = mu - r.centre;
+            double l = std::abs(glm::dot(rel, r.length_axis)) / (r.length / 2);
+            double w = std::abs(glm::dot(rel, r.width_axis)) / (r.width / 2);
+            if (l <= 1 + 2 * margin && w <= 1 + 2 * margin) {
+                node_of[i] = int32_t(domain.size());
+                domain.push_back(uint32_t(i));
+                break;
+            }
+        }
+    }
+    d.in_roi.assign(domain.size(), 0);
+    for (auto& roi : rois)
+        for (uint32_t g : roi)
+            if (node_of[g] >= 0) d.in_roi[size_t(node_of[g])] = 1;
+    return d;
+}
+
+}  // namespace
+
+std::vector<float> Segmenter::coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain,
+                                           const WalkProblem& fine) {
+    // The same problem on every coarse_stride-th node (and every object's click): a graph
+    // with fewer hops across, solved in a fraction of the fine solve's iterations; each fine
+    // node starts from its nearest coarse node's answer, so the fine solve only sharpens it.
+    const uint32_t nodes = uint32_t(domain.size()), labels = fine.labels;
+    std::vector<uint32_t> members, coarse_domain;
+    for (uint32_t i = 0; i < nodes; ++i) {
+        if (i % o.coarse_stride == 0 || fine.seed[i] > 0) {
+            members.push_back(i);
+            coarse_domain.push_back(domain[i]);
+        }
+    }
+    coarse_graph_.build(scene_, cloud_, coarse_domain, o.graph_options);
+    WalkProblem cp;
+    cp.labels = labels;
+    const uint32_t m = uint32_t(members.size());
+    cp.seed.resize(m);
+    for (uint32_t c = 0; c < m; ++c) cp.seed[c] = fine.seed[members[c]];
+    if (!fine.gamma.empty()) {
+        auto degree = vk::download_vector<float>(ctx_, coarse_graph_.degree_buffer(), m);
+        cp.gamma.resize(m);
+        cp.prior.resize(size_t(m) * labels);
+        for (uint32_t c = 0; c < m; ++c) {
+            cp.gamma[c] = fine.gamma[members[c]] > 0 ? o.unary * degree[c] : 0.0f;
+            std::copy_n(&fine.prior[size_t(members[c]) * labels], labels, &cp.prior[size_t(c) * labels]);
+        }
+    }
+    auto coarse = walker_.solve(coarse_graph_, cp, o.walk);
+    std::vector<glm::vec3> positions(m);
+    for (uint32_t c = 0; c < m; ++c) positions[c] = cloud_.mean[coarse_domain[c]];
+    std::vector<uint32_t> all(m);
+    for (uint32_t c = 0; c < m; ++c) all[c] = c;
+    data::clicks::PointGrid grid(positions, all, std::max(coarse_graph_.cell_side(), 1e-6f));
+    std::vector<float> start(size_t(nodes) * labels, 0.0f);
+    for (uint32_t i = 0; i < nodes; ++i) {
+        uint32_t c = 0;
+        if (grid.nearest(cloud_.mean[domain[i]], 0xFFFFFFFFu, 64, &c) < 0) continue;
+        std::copy_n(&coarse.x[size_t(c) * labels], labels, &start[size_t(i) * labels]);
+    }
+    return start;
+}
+
+void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
+                            const std::vector<std::vector<uint32_t>>& rois,
+                            const std::vector<std::vector<float>>& probabilities, SegmentResult& result) {
+    auto t0 = Clock::now();
+    const GraphDomain d = graph_domain(cloud_, objects, rois, o.graph_margin);
+    if (d.domain != graph_domain_ || !(o.graph_options == graph_built_with_)) {
+        graph_.build(scene_, cloud_, d.domain, o.graph_options);
+        graph_domain_ = d.domain;
+        graph_built_with_ = o.graph_options;
+        last_solution_.clear();
+    }
+    result.stage_ms["graph build"] += ms_since(t0);
+
+    t0 = Clock::now();
+    // Labels: 0 background, 1 + j object j.
+    const uint32_t nodes = uint32_t(d.domain.size());
+    WalkProblem pr;
+    pr.labels = uint32_t(objects.size() + 1);
+    pr.seed.assign(nodes, -1);
+    for (uint32_t i = 0; i < nodes; ++i)
+        if (!d.in_roi[i]) pr.seed[i] = 0;
+    const auto nbr = graph_.neighbours();
+    seed_clicks(objects, d, nbr, pr);
+    if (o.graph == GraphUse::Unary) network_prior(o, objects, rois, probabilities, d, pr);
+    if (o.solver == GraphSolver::Forest) solve_forest(o, objects, d.domain, nbr, pr, result);
+    else solve_walk(o, objects, d.domain, nbr, pr, result);
+    result.stage_ms["graph solve"] += ms_since(t0);
+}
+
+void Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const GraphDomain& d,
+                            const std::vector<uint32_t>& nbr, WalkProblem& pr) const {
+    const uint32_t nodes = uint32_t(d.domain.size());
+    const std::vector<int32_t>& node_of = d.node_of;
+    // A click seeds the Gaussian whose centre is nearest to its 3D point and that Gaussian's graph
+    // neighbours (about one spacing around it). The anchor itself may be a large Gaussian whose
+    // footprint covers the pixel while its centre lies a metre away, or a faint one whose every
+    // edge is weak; a seed like that loses its object in the forest. Seeds win over neighbours.
+    const uint32_t k = graph_.k();
+    std::vector<glm::vec3> node_pos(nodes);
+    std::vector<uint32_t> all_nodes(nodes);
+    for (uint32_t i = 0; i < nodes; ++i) node_pos[i] = cloud_.mean[d.domain[i]], all_nodes[i] = i;
+    const data::clicks::PointGrid node_grid(node_pos, all_nodes, std::max(graph_.cell_side(), 1e-6f));
+    struct ClickSeed {
+        uint32_t node;
+        int32_t label;
+    };
+    std::vector<ClickSeed> clicks;
+    for (size_t j = 0; j < objects.size(); ++j)
+        for (auto& a : objects[j]->anchors) {
+            if (a.gaussian < 0 || node_of[size_t(a.gaussian)] < 0) continue;
+            uint32_t i = uint32_t(node_of[size_t(a.gaussian)]);  // kept if no node is near the point
+            node_grid.nearest(glm::vec3(a.position), 0xFFFFFFFFu, 8, &i);
+            clicks.push_back({i, a.positive ? int32_t(j + 1) : 0});
+        }
+    for (auto [i, label] : clicks)
+        for (uint32_t t = 0; t < k; ++t)
+            if (uint32_t q = nbr[size_t(i) * k + t]; q < nodes && pr.seed[q] < 0) pr.seed[q] = label;
+    for (auto [i, label] : clicks) pr.seed[i] = label;
+}
+
+void Segmenter::network_prior(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
+                              const std::vector<std::vector<uint32_t>>& rois,
+                              const std::vector<std::vector<float>>& probabilities, const GraphDomain& d,
+                              WalkProblem& pr) {
+    const uint32_t nodes = uint32_t(d.domain.size()), labels = pr.labels;
+    const size_t m = objects.size();
+    const std::vector<int32_t>& node_of = d.node_of;
+    // The network's probabilities as a prior: q_j = p_j where object j's ROI holds the node,
+    // background = the product of (1 - p_j), normalised; strength `unary` x the node's degree.
+    // A network that calls the object's own clicked Gaussians background contradicts the user
+    // (it happens on real captures unlike its training data): that object gets no prior and
+    // is solved as by the graph alone.
+    std::vector<float> fg(size_t(nodes) * labels, 0.0f), bg(nodes, 1.0f);
+    // Inside an untrusted object's ROI the other networks' "not mine" is no evidence of
+    // background: the object there is unknown to them. No background prior there.
+    std::vector<uint8_t> unknown(nodes, 0);
+    for (size_t j = 0; j < m; ++j) {
+        double at_clicks = 0;
+        size_t clicks = 0;
+        for (size_t s = 0; s < rois[j].size(); ++s)
+            for (auto& a : objects[j]->anchors)
+                if (a.positive && a.gaussian == int32_t(rois[j][s])) at_clicks += probabilities[j][s], ++clicks;
+        objects[j]->network_trusted = clicks > 0 && at_clicks / double(clicks) > 0.5;
+        if (!objects[j]->network_trusted) {
+            for (uint32_t g : rois[j])
+                if (node_of[g] >= 0) unknown[size_t(node_of[g])] = 1;
+            continue;
+        }
+        for (size_t s = 0; s < rois[j].size(); ++s) {
+            int32_t i = node_of[rois[j][s]];
+            if (i < 0) continue;
+            fg[size_t(i) * labels + j + 1] = probabilities[j][s];
+            bg[size_t(i)] *= 1.0f - probabilities[j][s];
+        }
+    }
+    auto degree = vk::download_vector<float>(ctx_, graph_.degree_buffer(), nodes);
+    pr.gamma.assign(nodes, 0.0f);
+    pr.prior = std::move(fg);
+    for (uint32_t i = 0; i < nodes; ++i) {
+        float* q = &pr.prior[size_t(i) * labels];
+        q[0] = bg[i];
+        float sum = 0, top = 0;
+        for (uint32_t l = 0; l < labels; ++l) sum += q[l];
+        for (uint32_t l = 0; l < labels; ++l) top = std::max(top, q[l] /= sum);
+        // Only where the network is sure: elsewhere the graph decides.
+        const bool background = q[0] >= top;
+        pr.gamma[i] = top >= o.unary_confidence && !(background && unknown[i]) ? o.unary * degree[i] : 0.0f;
+    }
+}
+
+void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
+                           const std::vector<uint32_t>& domain, const std::vector<uint32_t>& nbr, WalkProblem& pr,
+                           SegmentResult& result) {
+    const uint32_t nodes = uint32_t(domain.size()), labels = pr.labels;
+    const size_t m = objects.size();
+    // Warm start: a label solved before on this graph starts from its last solution.
+    std::vector<int> ids(labels, 0);
+    for (size_t j = 0; j < m; ++j) ids[j + 1] = objects[j]->id;
+    bool warm = false;
+    for (int id : ids) warm = warm || last_solution_.count(id);
+    if (warm) {
+        pr.start.assign(size_t(nodes) * labels, 0.0f);
+        for (uint32_t l = 0; l < labels; ++l) {
+            auto it = last_solution_.find(ids[l]);
+            for (uint32_t i = 0; i < nodes; ++i)
+                pr.start[size_t(i) * labels + l] =
+                    it != last_solution_.end() ? it->second[i] : (pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l]);
+        }
+    }
+    if (!warm && o.coarse_stride > 1 && nodes >= 64 * o.coarse_stride) {
+        auto t1 = Clock::now();
+        pr.start = coarse_start(o, domain, pr);
+        result.stage_ms["graph coarse start"] += ms_since(t1);
+    }
+    auto solution = walker_.solve(graph_, pr, o.walk);
+    last_solution_.clear();
+    for (uint32_t l = 0; l < labels; ++l) {
+        auto& column = last_solution_[ids[l]];
+        column.resize(nodes);
+        for (uint32_t i = 0; i < nodes; ++i) column[i] = solution.x[size_t(i) * labels + l];
+    }
+
+    GraphReport report = graph_report(graph_, GraphSolver::Walk, pr.seed);
+    report.iterations = solution.iterations;
+    report.residual = solution.residual;
+    // A component of the graph with no seed, prior or coarse start has no answer (its system is
+    // singular and keeps whatever it started from): it stays unlabelled and is counted.
+    const auto reached = reached_components(graph_, nbr, pr, report);
+    // Each reached node's most likely label and its share of the probability.
+    std::vector<int32_t> arg(nodes, -1);
+    std::vector<float> share(nodes, 0.0f);
+    for (uint32_t i = 0; i < nodes; ++i) {
+        if (!reached[i]) continue;
+        const float* x = &solution.x[size_t(i) * labels];
+        float sum = 0, best = 0;
+        for (uint32_t l = 0; l < labels; ++l) {
+            float v = std::max(0.0f, x[l]);
+            sum += v;
+            if (v > best) best = v, arg[i] = int32_t(l);
+        }
+        share[i] = sum > 0 ? best / sum : 0.0f;
+        if (sum <= 0) arg[i] = -1;
+    }
+    if (o.solver == GraphSolver::WalkForest) {
+        // Where the walk is sure it stands; the forest's widest paths settle the rest, without
+        // the walk's pull towards the label with the most seeds.
+        std::vector<int32_t> seed = pr.seed;
+        for (uint32_t i = 0; i < nodes; ++i)
+            if (seed[i] < 0 && arg[i] >= 0 && share[i] >= o.walk_sure) seed[i] = arg[i];
+        auto forest = forest_.solve(graph_, seed, o.forest);
+        report.solver = GraphSolver::WalkForest;
+        report.rounds = forest.rounds;
+        for (uint32_t i = 0; i < nodes; ++i)
+            if (forest.label[i] > 0)
+                objects[size_t(forest.label[i]) - 1]->claims.push_back(
+                    {domain[i], arg[i] == forest.label[i] ? share[i] : 0.5f});
+    } else {
+        for (uint32_t i = 0; i < nodes; ++i)
+            if (arg[i] > 0) objects[size_t(arg[i]) - 1]->claims.push_back({domain[i], share[i]});
+    }
+    result.graph = report;
+}
+
+void Segmenter::solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
+                             const std::vector<uint32_t>& domain, const std::vector<uint32_t>& nbr, const WalkProblem& pr,
+                             SegmentResult& result) {
+    // The network's confident labels (the walk's unary terms) seed the forest like clicks.
+    const uint32_t nodes = uint32_t(domain.size()), labels = pr.labels;
+    std::vector<int32_t> seed = pr.seed;
+    if (!pr.gamma.empty())
+        for (uint32_t i = 0; i < nodes; ++i)
+            if (seed[i] < 0 && pr.gamma[i] > 0) {
+                const float* q = &pr.prior[size_t(i) * labels];
+                seed[i] = int32_t(std::max_element(q, q + labels) - q);
+            }
+    auto forest = forest_.solve(graph_, seed, o.forest);
+    last_solution_.clear();  // the walk's warm start does not apply to hard labels
+
+    GraphReport report = graph_report(graph_, GraphSolver::Forest, seed);
+    report.rounds = forest.rounds;
+    report.residual = forest.converged ? 0.0 : 1.0;
+    WalkProblem seeds_only;
+    seeds_only.labels = labels;
+    seeds_only.seed = std::move(seed);
+    reached_components(graph_, nbr, seeds_only, report);
+    for (uint32_t i = 0; i < nodes; ++i)
+        if (forest.label[i] > 0) objects[size_t(forest.label[i]) - 1]->claims.push_back({domain[i], 1.0f});
+    result.graph = report;
+}
+
+}  // namespace pg::seg
