@@ -35,6 +35,19 @@ void Viewer::draw_panels() {
     ImGui::TextDisabled("up (%s): %.2f %.2f %.2f", scene_.up_spec.c_str(), scene_.options.up.x, scene_.options.up.y,
                         scene_.options.up.z);
 
+    draw_view_panel();
+    draw_objects_panel();
+    draw_export_panel();
+    draw_timings_panel();
+    if (!status_.empty()) {
+        ImGui::Separator();
+        if (status_error_) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", status_.c_str());
+        else ImGui::TextWrapped("%s", status_.c_str());
+    }
+    ImGui::End();
+}
+
+void Viewer::draw_view_panel() {
     if (ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) {
         const std::string current = snapped_ >= 0 ? scene_.cameras[size_t(snapped_)].name : "free camera";
         ImGui::SetNextItemWidth(200);
@@ -61,7 +74,9 @@ void Viewer::draw_panels() {
         ImGui::TextDisabled("drag: orbit, right drag: pan, wheel: zoom\nWASD QE: fly, [ ]: cameras\n"
                             "click: positive, ctrl/right click: negative\nalt+click: select the object under it");
     }
+}
 
+void Viewer::draw_objects_panel() {
     if (ImGui::CollapsingHeader("Objects", ImGuiTreeNodeFlags_DefaultOpen)) {
         if (decoders_.size() > 1) {
             ImGui::SetNextItemWidth(200);
@@ -127,7 +142,9 @@ void Viewer::draw_panels() {
                 ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error.c_str());
         }
     }
+}
 
+void Viewer::draw_export_panel() {
     if (ImGui::CollapsingHeader("Export", ImGuiTreeNodeFlags_DefaultOpen)) {
         if (!panel_.folder_set) std::snprintf(panel_.folder, sizeof panel_.folder, "%s", export_folder_.c_str());
         panel_.folder_set = true;
@@ -155,7 +172,9 @@ void Viewer::draw_panels() {
             }
         }
     }
+}
 
+void Viewer::draw_timings_panel() {
     if (ImGui::CollapsingHeader("Timings", ImGuiTreeNodeFlags_DefaultOpen)) {
         ImGui::TextWrapped("%s (%s)", ctx_->info().name.c_str(), vk::device_type_name(ctx_->info().type).c_str());
         timing_row("window frame", frame_ms_);
@@ -168,18 +187,12 @@ void Viewer::draw_panels() {
         }
         if (lift_ms_ > 0) timing_row("lift click", lift_ms_);
         if (segment_wall_ms_ > 0) {
-            timing_row("segment object (wall)", segment_wall_ms_);
+            timing_row("segment (wall)", segment_wall_ms_);
             for (auto& [name, ms] : segment_ms_) timing_row(("  " + name).c_str(), ms);
         }
         const bool working = jobs_->busy() || session_.in_flight();
         if (working) ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "working...");
     }
-    if (!status_.empty()) {
-        ImGui::Separator();
-        if (status_error_) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", status_.c_str());
-        else ImGui::TextWrapped("%s", status_.c_str());
-    }
-    ImGui::End();
 }
 
 }  // namespace pg::viewer

@@ -74,7 +74,11 @@ private:
     FrameRequest frame_request(bool still) const;
     std::vector<glm::vec4> palette() const;
     void handle_input();
-    void draw_panels();
+    void draw_panels();  // the side panel: one section each below
+    void draw_view_panel();
+    void draw_objects_panel();
+    void draw_export_panel();
+    void draw_timings_panel();
     void draw_markers();
     void status(const std::string& text, bool error = false);
     void leave_snap();
