@@ -165,7 +165,6 @@ PixelPick Renderer::pick(int x, int y) {
     PixelPick p;
     p.surface_id = g.ids.x == gpu::kNoGaussian ? -1 : int32_t(g.ids.x);
     p.tau_id = g.ids.y == gpu::kNoGaussian ? -1 : int32_t(g.ids.y);
-    p.contributors = g.ids.z;
     p.surface_depth = g.depths.x;
     p.tau_depth = g.depths.y;
     p.surface_weight = g.weights.x;

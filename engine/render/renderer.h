@@ -54,7 +54,6 @@ struct PixelPick {
     float tau_depth = 0;
     float tau = 0;            // the settings' tau, or tau x opacity when the pixel never reached it
     float opacity = 0;        // the pixel's final opacity 1 - T
-    uint32_t contributors = 0;
 };
 
 class Renderer {

@@ -1,6 +1,5 @@
 #include "engine/segment/prompt_encoder.h"
 
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>

@@ -111,7 +111,7 @@ void main() {
         r.tau_id = again.tau_id;
         r.tau_depth = again.tau_depth;
     }
-    pick.ids = uvec4(r.best_id, r.tau_id, r.contributors, 0u);
+    pick.ids = uvec4(r.best_id, r.tau_id, 0u, 0u);
     pick.depths = vec4(r.best_depth, r.tau_depth, 0.0, 0.0);
     pick.weights = vec4(r.best_w, opacity, tau, 0.0);
 }

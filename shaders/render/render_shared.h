@@ -57,7 +57,7 @@ struct PickPush {
     uvec4 pixel;        // x, y, unused, unused
 };
 struct PixelPick {
-    uvec4 ids;          // dominant surface's heaviest Gaussian, tau Gaussian (kNoGaussian: none), contributors, unused
+    uvec4 ids;          // dominant surface's heaviest Gaussian, tau Gaussian (kNoGaussian: none), unused, unused
     vec4 depths;        // that Gaussian's depth, tau depth, unused, unused
     vec4 weights;       // the surface's summed weight alpha * T, final opacity 1 - T, the tau used, unused
 };
