@@ -29,6 +29,7 @@ struct BenchRenderArgs {
 void run_bench_render(const BenchRenderArgs& a) {
     if (a.frames < 1) throw data::InputError("--frames", "must be at least 1");
     if (a.warmup < 0) throw data::InputError("--warmup", "must not be negative");
+    auto t_load = std::chrono::steady_clock::now();
     auto cloud = data::load_scene(a.scene);
     auto cameras = data::load_cameras(a.cameras);
     auto views = select_views(a.views, cameras);
@@ -36,7 +37,8 @@ void run_bench_render(const BenchRenderArgs& a) {
     co.device = a.device.device;
     co.quiet = a.json;
     vk::Context ctx(co);
-    render::GpuScene scene(ctx, cloud);
+    render::GpuScene scene(ctx, cloud, scene_budget(a.device));
+    const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_load).count();
     render::Renderer renderer(ctx);
     render::RenderSettings settings;
     settings.width = a.width;
@@ -46,6 +48,7 @@ void run_bench_render(const BenchRenderArgs& a) {
     std::map<std::string, std::vector<double>> pass_ms;
     std::vector<double> wall_ms, gpu_ms;
     uint32_t keys = 0;
+    int slabs = 1;
     Progress progress("bench", size_t(a.warmup + a.frames));
     for (int f = 0; f < a.warmup + a.frames; ++f) {
         const auto& cam = cameras[views[size_t(f) % views.size()]];
@@ -63,6 +66,7 @@ void run_bench_render(const BenchRenderArgs& a) {
         }
         gpu_ms.push_back(total);
         keys = renderer.key_count();
+        slabs = renderer.slabs();
     }
     progress.finish();
     auto mem = vk::memory_stats();
@@ -80,17 +84,26 @@ void run_bench_render(const BenchRenderArgs& a) {
         j["gpu_ms"]["total"] = median(gpu_ms);
         j["wall_ms"] = median(wall_ms);
         j["peak_device_bytes"] = mem.peak;
+        j["peak_host_bytes"] = peak_host_bytes();
+        j["load_ms"] = load_ms;
+        j["slabs"] = slabs;
+        if (scene.streamed()) j["slab_capacity"] = scene.slab_capacity();
         std::printf("%s\n", j.dump(2).c_str());
         return;
     }
     std::printf("device     %s\n", ctx.info().name.c_str());
     std::printf("scene      %s (%zu Gaussians), %dx%d, %d frames after %d warm-up\n", a.scene.c_str(), cloud.size(),
                 renderer.width(), renderer.height(), a.frames, a.warmup);
-    std::printf("tile keys  %u\n\n", keys);
+    std::printf("tile keys  %u\n", keys);
+    std::printf("load       %.0f ms (read, upload)\n", load_ms);
+    if (scene.streamed())
+        std::printf("streamed   %d slabs of at most %u Gaussians per frame\n", slabs, scene.slab_capacity());
+    std::printf("\n");
     std::printf("| pass | median ms |\n|---|---:|\n");
     for (auto& name : order) std::printf("| %s | %.3f |\n", name.c_str(), median(pass_ms[name]));
     std::printf("| **GPU total** | %.3f |\n| **wall per frame** | %.3f |\n", median(gpu_ms), median(wall_ms));
-    std::printf("\npeak device memory %.1f MiB\n", double(mem.peak) / (1 << 20));
+    std::printf("\npeak device memory %.1f MiB, peak host memory %.1f MiB\n", double(mem.peak) / (1 << 20),
+                double(peak_host_bytes()) / (1 << 20));
 }
 
 }  // namespace
@@ -109,6 +122,7 @@ void register_bench(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--warmup", a->warmup, "Frames before measuring")->capture_default_str();
     cmd->add_flag("--json", a->json, "Print JSON instead of a table");
     add_device_option(*cmd, a->device);
+    add_memory_option(*cmd, a->device);
     cmd->callback([a, &run] { run = [a] { run_bench_render(*a); }; });
     register_bench_segment(*bench, run);
     register_bench_ptv3(*bench, run);

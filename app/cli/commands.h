@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "dataset/camera.h"
+#include "engine/render/gpu_scene.h"
 
 namespace pg::app {
 
@@ -21,9 +22,13 @@ public:
 
 // Options every GPU subcommand takes.
 struct DeviceOptions {
-    std::string device;  // --device NAME
+    std::string device;             // --device NAME
+    std::string max_device_memory;  // --max-device-memory BYTES (K, M, G suffixes)
 };
 void add_device_option(CLI::App& cmd, DeviceOptions& opt);
+// --max-device-memory, for commands that put a whole scene on the device.
+void add_memory_option(CLI::App& cmd, DeviceOptions& opt);
+render::SceneBudget scene_budget(const DeviceOptions& opt);
 
 void register_info(CLI::App& app, std::function<void()>& run);
 void register_render(CLI::App& app, std::function<void()>& run);
@@ -42,6 +47,9 @@ void register_infer(CLI::App& app, std::function<void()>& run);
 void register_clicks(CLI::App& app, std::function<void()>& run);
 
 // The median (mean of the middle two for an even count); 0 for none. Benchmarks report medians.
+// The process's peak resident memory (VmHWM), 0 where /proc is absent.
+uint64_t peak_host_bytes();
+
 inline double median(std::vector<double> v) {
     if (v.empty()) return 0;
     std::sort(v.begin(), v.end());

@@ -83,7 +83,7 @@ void run_render(const RenderArgs& a) {
     vk::ContextOptions co;
     co.device = a.device.device;
     vk::Context ctx(co);
-    render::GpuScene scene(ctx, cloud);
+    render::GpuScene scene(ctx, cloud, scene_budget(a.device));
     render::Renderer renderer(ctx);
     render::RenderSettings settings;
     settings.width = a.width;
@@ -96,6 +96,7 @@ void run_render(const RenderArgs& a) {
     report["scene"] = a.scene;
     report["device"] = ctx.info().name;
     report["gaussians"] = cloud.size();
+    if (scene.streamed()) report["slab_capacity"] = scene.slab_capacity();
     Progress progress("render", views.size());
     auto start = std::chrono::steady_clock::now();
     for (size_t v : views) {
@@ -133,6 +134,7 @@ void run_render(const RenderArgs& a) {
         double gpu_ms = 0;
         for (auto& t : renderer.timings()) gpu_ms += t.ms;
         entry["gpu_ms"] = gpu_ms;
+        if (scene.streamed()) entry["slabs"] = renderer.slabs();
         report["views"].push_back(entry);
         progress.step(cam.name);
     }
@@ -161,6 +163,7 @@ void register_render(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--tau", a->tau, "Opacity at which the tau-depth is taken")->capture_default_str();
     cmd->add_flag("--antialiased", a->antialiased, "Mip-Splatting opacity compensation (for scenes trained with it)");
     add_device_option(*cmd, a->device);
+    add_memory_option(*cmd, a->device);
     cmd->callback([a, &run] { run = [a] { run_render(*a); }; });
 }
 

@@ -10,6 +10,27 @@ void add_device_option(CLI::App& cmd, DeviceOptions& opt) {
     cmd.add_option("--device", opt.device, "Vulkan device name (substring); default: PG_DEVICE, else the best GPU");
 }
 
+void add_memory_option(CLI::App& cmd, DeviceOptions& opt) {
+    cmd.add_option("--max-device-memory", opt.max_device_memory,
+                   "Device memory the scene may use (e.g. 512M, 2G); a scene past it, or past the device's "
+                   "largest binding, is streamed in slabs. Default: the device's memory");
+}
+
+render::SceneBudget scene_budget(const DeviceOptions& opt) {
+    render::SceneBudget b;
+    if (opt.max_device_memory.empty()) return b;
+    const std::string& s = opt.max_device_memory;
+    double value = 0;
+    auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+    std::string unit(ptr, s.data() + s.size());
+    double scale = unit.empty() || unit == "B" ? 1 : unit == "K" || unit == "KiB" ? 1024.0
+                 : unit == "M" || unit == "MiB" ? 1024.0 * 1024 : unit == "G" || unit == "GiB" ? 1024.0 * 1024 * 1024 : 0;
+    if (ec != std::errc() || scale == 0 || !(value > 0) || value * scale > 1e15)
+        throw data::InputError("--max-device-memory", "expected a size such as 512M or 2G, got '" + s + "'");
+    b.max_device_bytes = uint64_t(value * scale);
+    return b;
+}
+
 std::vector<size_t> select_views(const std::string& spec, const std::vector<data::Camera>& cameras) {
     std::vector<size_t> out;
     if (spec.empty() || spec == "all") {

@@ -1,29 +1,99 @@
 #include "engine/render/gpu_scene.h"
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "engine/vk/context.h"
+
 namespace pg::render {
 
-GpuScene::GpuScene(vk::Context& ctx, const data::GaussianCloud& cloud) {
+namespace {
+// The fewest Gaussians a slab may hold: below this a frame would be hundreds of passes.
+constexpr uint32_t kMinSlab = 4096;
+// Tile keys per Gaussian the renderer starts with (it grows them when a frame needs more).
+constexpr uint64_t kKeysPerGaussian = 4;
+
+std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
+}  // namespace
+
+uint64_t frame_bytes_per_gaussian(uint32_t sh_floats) {
+    const uint64_t scene = 16 + 32 + 4ull * sh_floats;
+    // splats 48, tiles touched 4 (and in depth order 4), key offsets 4, tile rect 8, depth key 4,
+    // depth order 4, slab ids 4
+    const uint64_t renderer = 48 + 4 + 4 + 4 + 8 + 4 + 4 + 4;
+    // keys and values, and the sort's scratch copies of both
+    const uint64_t keys = kKeysPerGaussian * (4 + 4 + 8);
+    return scene + renderer + keys;
+}
+
+GpuScene::GpuScene(vk::Context& ctx, const data::GaussianCloud& cloud, const SceneBudget& budget)
+    : ctx_(ctx), cloud_(&cloud) {
     if (cloud.size() > std::numeric_limits<uint32_t>::max() / 8)
         throw std::runtime_error("scene has " + std::to_string(cloud.size()) + " Gaussians, more than the renderer indexes");
     count_ = uint32_t(cloud.size());
     sh_degree_ = cloud.sh_degree;
     sh_floats_ = uint32_t(3 * cloud.coeffs());
 
-    std::vector<glm::vec4> m(count_), s(2 * size_t(count_));
-    for (uint32_t i = 0; i < count_; ++i) {
-        m[i] = glm::vec4(cloud.mean[i], cloud.opacity_logit[i]);
-        s[2 * i] = glm::vec4(cloud.log_scale[i], 0.0f);
-        s[2 * i + 1] = cloud.rotation[i];
+    // The widest per-Gaussian array sets how many Gaussians one binding holds.
+    const auto& info = ctx.info();
+    uint64_t binding = info.max_storage_buffer_range;
+    if (budget.max_binding_bytes) binding = std::min<uint64_t>(binding, budget.max_binding_bytes);
+    const uint64_t widest = std::max<uint64_t>({48, 32, 4ull * sh_floats_});
+    uint64_t by_binding = binding / widest;
+    // Tile keys are 4-byte arrays of kKeysPerGaussian per Gaussian.
+    by_binding = std::min(by_binding, binding / (4 * kKeysPerGaussian));
+    const uint64_t memory = budget.max_device_bytes ? budget.max_device_bytes : info.device_memory_bytes;
+    const uint64_t per = frame_bytes_per_gaussian(sh_floats_);
+    const uint64_t by_memory = memory / per;
+    const uint64_t fit = std::min(by_binding, by_memory);
+    if (fit < kMinSlab && fit < count_)
+        throw std::runtime_error("scene of " + std::to_string(count_) + " Gaussians (SH degree " +
+                                 std::to_string(sh_degree_) + ") needs at least " + mib(uint64_t(kMinSlab) * per) +
+                                 " of device memory for slabs of " + std::to_string(kMinSlab) + " Gaussians; " +
+                                 mib(memory) + (budget.max_device_bytes ? " allowed" : " available"));
+    streamed_ = fit < count_;
+    capacity_ = streamed_ ? uint32_t(fit) : count_;
+    if (!streamed_) upload(nullptr, count_);
+    else {
+        means = vk::Buffer(ctx, uint64_t(capacity_) * 16, vk::MemoryUse::Device, "means (slab)");
+        shapes = vk::Buffer(ctx, uint64_t(capacity_) * 32, vk::MemoryUse::Device, "shapes (slab)");
+        sh = vk::Buffer(ctx, uint64_t(capacity_) * 4 * sh_floats_, vk::MemoryUse::Device, "sh (slab)");
     }
-    means = vk::upload_vector(ctx, m, "means");
-    shapes = vk::upload_vector(ctx, s, "shapes");
-    sh = vk::upload_vector(ctx, cloud.sh, "sh");
+}
+
+void GpuScene::load_slab(const std::vector<uint32_t>& ids) {
+    if (!streamed_) throw std::logic_error("GpuScene::load_slab: the scene is resident");
+    if (ids.size() > capacity_) throw std::logic_error("GpuScene::load_slab: slab larger than its buffers");
+    upload(&ids, uint32_t(ids.size()));
+}
+
+void GpuScene::upload(const std::vector<uint32_t>* ids, uint32_t n) {
+    const data::GaussianCloud& cloud = *cloud_;
+    const uint32_t shf = sh_floats_;
+    std::vector<glm::vec4> m(n), s(2 * size_t(n));
+    std::vector<float> c(ids ? size_t(n) * shf : 0);  // resident: cloud.sh is uploaded as it is
+    for (uint32_t k = 0; k < n; ++k) {
+        const uint32_t i = ids ? (*ids)[k] : k;
+        m[k] = glm::vec4(cloud.mean[i], cloud.opacity_logit[i]);
+        s[2 * size_t(k)] = glm::vec4(cloud.log_scale[i], 0.0f);
+        s[2 * size_t(k) + 1] = cloud.rotation[i];
+        if (ids) std::copy_n(&cloud.sh[size_t(i) * shf], shf, &c[size_t(k) * shf]);
+    }
+    if (!ids) {
+        means = vk::upload_vector(ctx_, m, "means");
+        shapes = vk::upload_vector(ctx_, s, "shapes");
+        sh = vk::upload_vector(ctx_, cloud.sh, "sh");
+    } else if (n) {
+        vk::upload(ctx_, means, m.data(), m.size() * sizeof(glm::vec4));
+        vk::upload(ctx_, shapes, s.data(), s.size() * sizeof(glm::vec4));
+        vk::upload(ctx_, sh, c.data(), c.size() * sizeof(float));
+    }
+    loaded_ = n;
 }
 
 }  // namespace pg::render

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "engine/vk/context.h"
 #include "shaders/common/common_shared.h"
@@ -67,15 +68,7 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     width_ = camera.width;
     height_ = camera.height;
     last_scene_ = &scene;
-    const uint32_t n = scene.size();
-    const uint32_t tiles_x = vk::ceil_div(uint32_t(width_), gpu::kTileSize);
-    const uint32_t tiles_y = vk::ceil_div(uint32_t(height_), gpu::kTileSize);
-    const uint32_t tiles = tiles_x * tiles_y;
-    const uint64_t pixels = uint64_t(width_) * uint64_t(height_);
-    if (style) check_style(*style, n);
-    const vk::Buffer& labels = style ? *style->labels : no_style_;
-    const vk::Buffer& palette = style ? *style->palette : no_style_;
-    const uint32_t palette_size = style ? style->palette_size : 0;
+    if (style) check_style(*style, scene.size());
 
     if (!splats_.valid()) {
         splats_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "splats");
@@ -91,6 +84,94 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
         image_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "image");
         aux_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "aux image");
     }
+    const uint64_t pixels = uint64_t(width_) * uint64_t(height_);
+    image_.ensure(pixels * 16);
+    aux_.ensure(pixels * 16);
+    retries_ = 0;
+    key_count_ = 0;
+    timings_.clear();
+    slabs_ = 0;
+    if (!scene.streamed()) {
+        render_slab(scene, camera, settings, style, scene.size(), gpu::kBlendFinal);
+        return;
+    }
+
+    // Streamed: the Gaussians in front of the camera, in depth order, cut into slabs; each slab
+    // is blended over the state the slab before left, so the frame is the in-memory one.
+    const auto order = depth_order(scene.cloud(), camera, settings);
+    if (order.empty()) {
+        render_slab(scene, camera, settings, style, 0, gpu::kBlendFinal);
+        return;
+    }
+    if (!slab_ids_.valid()) {
+        slab_ids_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "slab ids");
+        slab_labels_ = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "slab labels");
+        for (int c = 0; c < 2; ++c) carry_[c] = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "blend carry");
+    }
+    for (auto& c : carry_) c.ensure(pixels * gpu::kCarryWords * 4);
+    const uint32_t capacity = scene.slab_capacity();
+    slab_ids_.ensure(uint64_t(capacity) * 4);
+    std::vector<uint32_t> ids;
+    for (size_t begin = 0; begin < order.size();) {
+        size_t end = std::min(order.size(), begin + capacity);
+        // Gaussians of equal depth stay in one slab, so their order is the in-memory one.
+        while (end < order.size() && end > begin + 1 && order[end].first == order[end - 1].first) --end;
+        ids.resize(end - begin);
+        for (size_t k = begin; k < end; ++k) ids[k - begin] = order[k].second;
+        const_cast<GpuScene&>(scene).load_slab(ids);
+        vk::upload(ctx_, slab_ids_, ids.data(), ids.size() * 4);
+        uint32_t flags = gpu::kBlendSlabIds;
+        if (begin > 0) flags |= gpu::kBlendResume;
+        if (end == order.size()) flags |= gpu::kBlendFinal;
+        render_slab(scene, camera, settings, style, uint32_t(ids.size()), flags);
+        begin = end;
+    }
+}
+
+std::vector<std::pair<uint32_t, uint32_t>> Renderer::depth_order(const data::GaussianCloud& cloud,
+                                                                 const data::Camera& camera,
+                                                                 const RenderSettings& settings) const {
+    // What preprocess can keep: in front of the near plane, opacity over kAlphaMin, and a
+    // footprint that may reach the image. The footprint bound is preprocess's own math with
+    // every factor at its largest: the EWA covariance's largest eigenvalue is at most
+    // |J|_F^2 sigma_max^2, plus the low-pass term, times the largest squared extent 2 ln 255.
+    // The key is preprocess's too: the bits of the float view depth.
+    const glm::mat4 view(camera.world_to_camera());
+    const float near = settings.near;
+    const float fx = float(camera.fx), fy = float(camera.fy), cx = float(camera.cx), cy = float(camera.cy);
+    const float w = float(camera.width), h = float(camera.height);
+    const float limx = gpu::kFovClamp * 0.5f * w / fx, limy = gpu::kFovClamp * 0.5f * h / fy;
+    const float extent2 = 2.0f * std::log(255.0f) * 1.001f + 1e-3f;
+    const float min_logit = std::log(gpu::kAlphaMin / (1.0f - gpu::kAlphaMin));
+    std::vector<std::pair<uint32_t, uint32_t>> order;
+    order.reserve(cloud.size() / 2);
+    for (size_t i = 0; i < cloud.size(); ++i) {
+        if (cloud.opacity_logit[i] < min_logit) continue;
+        const glm::vec3 p = glm::vec3(view * glm::vec4(cloud.mean[i], 1.0f));
+        if (!(p.z > near)) continue;
+        const glm::vec3 ls = cloud.log_scale[i];
+        const float s2 = std::exp(2.0f * std::max({ls.x, ls.y, ls.z}));
+        const float ux = std::clamp(p.x / p.z, -limx, limx), uy = std::clamp(p.y / p.z, -limy, limy);
+        const float j2 = (fx * fx * (1 + ux * ux) + fy * fy * (1 + uy * uy)) / (p.z * p.z);
+        const float r = std::sqrt(extent2 * (j2 * s2 + gpu::kLowPass)) + 2.0f;
+        const float u = fx * p.x / p.z + cx, v = fy * p.y / p.z + cy;
+        if (u + r < 0 || u - r > w || v + r < 0 || v - r > h) continue;  // NaN: kept, as preprocess would
+        order.emplace_back(std::bit_cast<uint32_t>(p.z), uint32_t(i));
+    }
+    std::sort(order.begin(), order.end());
+    return order;
+}
+
+void Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings,
+                           const RenderStyle* style, uint32_t n, uint32_t flags) {
+    const uint32_t tiles_x = vk::ceil_div(uint32_t(width_), gpu::kTileSize);
+    const uint32_t tiles_y = vk::ceil_div(uint32_t(height_), gpu::kTileSize);
+    const uint32_t tiles = tiles_x * tiles_y;
+    const bool slab = (flags & gpu::kBlendSlabIds) != 0;
+    const vk::Buffer* labels = style ? style->labels : &no_style_;
+    const vk::Buffer& palette = style ? *style->palette : no_style_;
+    const uint32_t palette_size = style ? style->palette_size : 0;
+
     splats_.ensure(uint64_t(n) * sizeof(gpu::Splat));
     touched_.ensure(uint64_t(n) * 4);
     offsets_.ensure(uint64_t(n) * 4);
@@ -99,22 +180,31 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     order_.ensure(uint64_t(n) * 4);
     touched_sorted_.ensure(uint64_t(n) * 4);
     ranges_.ensure(uint64_t(tiles) * 8);
-    image_.ensure(pixels * 16);
-    aux_.ensure(pixels * 16);
     if (capacity_ == 0) capacity_ = std::max<uint32_t>(1024, std::min<uint64_t>(uint64_t(n) * 4, 1u << 24));
+    // A slab's carry: read from one buffer, written to the other, so a retried slab starts over.
+    const vk::Buffer& carry_in = slab ? carry_[slabs_ % 2] : no_style_;
+    const vk::Buffer& carry_out = slab ? carry_[(slabs_ + 1) % 2] : no_style_;
+    const vk::Buffer& ids = slab ? slab_ids_ : no_style_;
 
     const uint32_t tile_bits = std::max(1, int(std::bit_width(tiles)));  // tile ids 0..tiles (padding)
     const uint32_t group_limit = ctx_.max_group_count_x();
-    retries_ = 0;
-    for (;;) {
+    for (int tries = 0;; ++tries) {
         keys_.ensure(uint64_t(capacity_) * 4);
         values_.ensure(uint64_t(capacity_) * 4);
         auto params = frame_params(camera, settings, n, scene.sh_floats(), scene.sh_degree(), capacity_, group_limit,
                                    palette_size);
+        params.capacity.w = flags;
         cmd_.update(frame_, &params, sizeof(params));
+        if (style && slab) {
+            // The slab's labels, gathered from the scene's by the slab's ids.
+            slab_labels_.ensure(std::max<uint64_t>(uint64_t(n) * 4, 16));
+            cmd_.dispatch("render/gather_labels", {ids, *style->labels, slab_labels_}, gpu::GatherPush{{n, 0, 0, 0}},
+                          vk::ceil_div(n, 256));
+            labels = &slab_labels_;
+        }
         cmd_.begin_pass("preprocess");
         cmd_.dispatch("render/preprocess", {frame_, scene.means, scene.shapes, scene.sh, splats_, touched_, rects_,
-                                            depth_keys_, order_, labels, palette},
+                                            depth_keys_, order_, *labels, palette},
                       vk::ceil_div(n, 256));
         // Two stable sorts give the tile-major, front-to-back order of a 64-bit tile|depth sort
         // with about half the work: Gaussians by depth once, then keys by tile id alone.
@@ -134,20 +224,30 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
         cmd_.dispatch("common/indirect_args", {counters_, args_}, args, 1);
         cmd_.dispatch_indirect("render/tile_ranges", {frame_, counters_, keys_, ranges_}, args_);
         cmd_.begin_pass("blend");
-        cmd_.dispatch_2d("render/blend", {frame_, splats_, values_, ranges_, image_, aux_}, tiles_x, tiles_y);
+        cmd_.dispatch_2d("render/blend", {frame_, splats_, values_, ranges_, image_, aux_, ids, carry_in, carry_out},
+                         tiles_x, tiles_y);
         cmd_.end_pass();
         cmd_.submit_and_wait();
-        timings_ = cmd_.timings();
-        key_count_ = vk::download_vector<uint32_t>(ctx_, counters_, 1)[0];
-        if (key_count_ <= capacity_) break;
-        if (++retries_ > 3) throw std::runtime_error("renderer: key buffer kept overflowing");
-        uint64_t grown = uint64_t(key_count_) + key_count_ / 4;
+        for (auto& t : cmd_.timings()) {
+            auto it = std::find_if(timings_.begin(), timings_.end(), [&](auto& u) { return u.name == t.name; });
+            if (it == timings_.end()) timings_.push_back(t);
+            else it->ms += t.ms;
+        }
+        const uint32_t keys = vk::download_vector<uint32_t>(ctx_, counters_, 1)[0];
+        if (keys <= capacity_) {
+            key_count_ += keys;
+            break;
+        }
+        ++retries_;
+        if (tries >= 3) throw std::runtime_error("renderer: key buffer kept overflowing");
+        uint64_t grown = uint64_t(keys) + keys / 4;
         uint64_t max_keys = ctx_.info().max_storage_buffer_range / 8;
-        if (uint64_t(key_count_) > max_keys)
-            throw std::runtime_error("frame needs " + std::to_string(key_count_) + " tile keys, more than the device can bind (" +
+        if (uint64_t(keys) > max_keys)
+            throw std::runtime_error("frame needs " + std::to_string(keys) + " tile keys, more than the device can bind (" +
                                      std::to_string(max_keys) + "); render at a lower resolution");
         capacity_ = uint32_t(std::min(grown, max_keys));
     }
+    ++slabs_;
 }
 
 uint32_t Renderer::tiles_x() const { return vk::ceil_div(uint32_t(width_), gpu::kTileSize); }
@@ -155,6 +255,10 @@ uint32_t Renderer::tiles_y() const { return vk::ceil_div(uint32_t(height_), gpu:
 
 PixelPick Renderer::pick(int x, int y) {
     if (!last_scene_) throw std::logic_error("Renderer::pick: nothing was rendered");
+    if (last_scene_->streamed())
+        throw std::runtime_error("picking a pixel of a streamed scene (" + std::to_string(last_scene_->size()) +
+                                 " Gaussians in slabs of " + std::to_string(last_scene_->slab_capacity()) +
+                                 ") is not supported yet");
     if (x < 0 || y < 0 || x >= width_ || y >= height_)
         throw std::out_of_range("Renderer::pick: pixel (" + std::to_string(x) + ", " + std::to_string(y) +
                                 ") is off the " + std::to_string(width_) + "x" + std::to_string(height_) + " frame");

@@ -1,9 +1,11 @@
 #pragma once
 // The tile-based 3DGS splat renderer: preprocess -> depth sort -> prefix sum -> key emission ->
 // tile sort -> tile ranges -> blend, recorded into one command list with no host round trip between
-// passes. If the keys overflow their buffer the frame is rendered again with larger ones.
+// passes. If the keys overflow their buffer the frame is rendered again with larger ones. A
+// streamed scene is drawn slab by slab, front to back, each blended over the last.
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -72,6 +74,8 @@ public:
     const std::vector<vk::PassTiming>& timings() const { return timings_; }
     uint32_t key_count() const { return key_count_; }
     int retries() const { return retries_; }
+    int slabs() const { return slabs_; }
+    bool streamed() const { return last_scene_ && last_scene_->streamed(); }  // the last frame's scene  // slabs the last frame was drawn in (1: resident scene)
     int width() const { return width_; }
     int height() const { return height_; }
     // Device outputs, for passes that consume a frame without reading it back.
@@ -86,6 +90,14 @@ public:
     uint32_t tiles_y() const;
 
 private:
+    // Records and runs one frame (or one slab of a streamed scene) over the first n Gaussians
+    // in the scene's device buffers; flags: gpu::kBlend*.
+    void render_slab(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings,
+                     const RenderStyle* style, uint32_t n, uint32_t flags);
+    // (depth key, scene index) of every Gaussian preprocess could draw, front to back.
+    std::vector<std::pair<uint32_t, uint32_t>> depth_order(const data::GaussianCloud& cloud, const data::Camera& camera,
+                                                           const RenderSettings& settings) const;
+
     vk::Context& ctx_;
     vk::CommandList cmd_;
     sort::PrefixSum scan_;
@@ -94,9 +106,10 @@ private:
     vk::Buffer depth_keys_, order_, touched_sorted_;
     vk::Buffer no_style_;
     vk::Buffer pick_;      // one gpu::PixelPick
+    vk::Buffer slab_ids_, slab_labels_, carry_[2];  // streamed scenes only
     const GpuScene* last_scene_ = nullptr;  // the scene of the last frame (pick reads its shapes)  // bound as labels and palette when a frame has no style
     uint32_t capacity_ = 0, key_count_ = 0;
-    int width_ = 0, height_ = 0, retries_ = 0;
+    int width_ = 0, height_ = 0, retries_ = 0, slabs_ = 0;
     std::vector<vk::PassTiming> timings_;
 };
 

@@ -20,6 +20,9 @@ void LabelRasterizer::rasterize(vk::CommandList& cmd, const render::Renderer& re
                                 const vk::Buffer& gaussian_labels, vk::Buffer& label_image, LabelMode mode) {
     if (renderer.width() <= 0 || renderer.height() <= 0 || !renderer.tile_ranges().valid())
         throw std::logic_error("label rasterization: the renderer has not rendered a frame yet");
+    if (renderer.streamed())
+        throw std::runtime_error("label rasterization of a streamed scene (larger than one binding or the memory "
+                                 "cap) is not supported yet");
     if (!gaussian_labels.valid() || gaussian_labels.size() < 4)
         throw std::invalid_argument("label rasterization: the Gaussian label buffer is empty");
     const VkDeviceSize bytes = VkDeviceSize(renderer.width()) * VkDeviceSize(renderer.height()) * 4;

@@ -13,6 +13,9 @@ layout(std430, binding = 2) readonly buffer Values { uint values[]; };
 layout(std430, binding = 3) readonly buffer Ranges { uvec2 ranges[]; };
 layout(std430, binding = 4) writeonly buffer Image { vec4 image[]; };   // rgb, alpha
 layout(std430, binding = 5) writeonly buffer Aux { uvec4 aux[]; };     // depth, tau-depth, tau-id, contributors
+layout(std430, binding = 6) readonly buffer SlabIds { uint slab_ids[]; };  // scene id of each slab Gaussian
+layout(std430, binding = 7) readonly buffer CarryIn { uint carry_in[]; };  // kCarryWords per pixel
+layout(std430, binding = 8) writeonly buffer CarryOut { uint carry_out[]; };
 
 // Structure of arrays: each lane reads the same element, one vec4 at a time.
 shared vec4 s_mean_opacity[kBlendGroup];  // mean.xy, opacity, depth
@@ -38,16 +41,31 @@ void main() {
     vec2 center = vec2(pix) + 0.5;
     float tau = frame.background.w;
 
+    uint flags = frame.capacity.w;
+    uint p = pix.y * width + pix.x;
+
     if (gl_LocalInvocationIndex == 0u) done_count = 0u;
     barrier();
 
-    bool done = !inside;
-    if (done) atomicAdd(done_count, 1u);
     float T = 1.0;
     vec3 C = vec3(0.0);
     float D = 0.0, Wsum = 0.0;
     float tau_depth = 0.0;
     uint tau_id = kNoGaussian, contributors = 0u;
+    bool done = !inside;
+    if ((flags & kBlendResume) != 0u && inside) {
+        uint c = p * kCarryWords;
+        C = vec3(uintBitsToFloat(carry_in[c]), uintBitsToFloat(carry_in[c + 1u]), uintBitsToFloat(carry_in[c + 2u]));
+        T = uintBitsToFloat(carry_in[c + 3u]);
+        D = uintBitsToFloat(carry_in[c + 4u]);
+        Wsum = uintBitsToFloat(carry_in[c + 5u]);
+        tau_depth = uintBitsToFloat(carry_in[c + 6u]);
+        tau_id = carry_in[c + 7u];
+        contributors = carry_in[c + 8u];
+        done = carry_in[c + 9u] != 0u;
+    }
+    const uint tau_before = tau_id;  // a tau Gaussian of an earlier slab is a scene id already
+    if (done) atomicAdd(done_count, 1u);
 
     for (uint start = range.x; start < range.y; start += kBlendGroup) {
         barrier();
@@ -122,7 +140,21 @@ void main() {
         if (done) atomicAdd(done_count, 1u);
     }
     if (!inside) return;
-    uint p = pix.y * width + pix.x;
+    if ((flags & kBlendSlabIds) != 0u && tau_before == kNoGaussian && tau_id != kNoGaussian) tau_id = slab_ids[tau_id];
+    if ((flags & kBlendFinal) == 0u) {
+        uint c = p * kCarryWords;
+        carry_out[c] = floatBitsToUint(C.r);
+        carry_out[c + 1u] = floatBitsToUint(C.g);
+        carry_out[c + 2u] = floatBitsToUint(C.b);
+        carry_out[c + 3u] = floatBitsToUint(T);
+        carry_out[c + 4u] = floatBitsToUint(D);
+        carry_out[c + 5u] = floatBitsToUint(Wsum);
+        carry_out[c + 6u] = floatBitsToUint(tau_depth);
+        carry_out[c + 7u] = tau_id;
+        carry_out[c + 8u] = contributors;
+        carry_out[c + 9u] = done ? 1u : 0u;
+        return;
+    }
     image[p] = vec4(C + T * frame.background.rgb, 1.0 - T);
     aux[p] = uvec4(floatBitsToUint(Wsum > 0.0 ? D / Wsum : 0.0), floatBitsToUint(tau_depth), tau_id, contributors);
 }

@@ -26,6 +26,13 @@ PG_CONST float kTransmittanceMin = 0.0001;          // a pixel stops here
 PG_CONST float kLowPass = 0.3;                      // added to the 2D covariance diagonal
 PG_CONST float kFovClamp = 1.3;                     // Jacobian clamp, in units of tan(fov/2)
 PG_CONST uint kNoGaussian = 0xFFFFFFFFu;
+// A streamed scene is blended slab by slab, front to back: each slab but the first starts from
+// the pixel state the one before left (carry), each but the last leaves its state there, and
+// a slab's Gaussian ids map to scene ids through its id list.
+PG_CONST uint kBlendResume = 1u;
+PG_CONST uint kBlendFinal = 2u;
+PG_CONST uint kBlendSlabIds = 4u;
+PG_CONST uint kCarryWords = 12u;  // uints per pixel of carried state
 // A pixel's contributors that are further apart in depth than this x the sum of their
 // standard deviations along the ray lie on different surfaces: their 3-sigma supports do not
 // meet (render/pick_pixel.comp).
@@ -40,7 +47,8 @@ struct FrameParams {
     vec4 clip;          // x: near plane, y: tan(fov_x/2), z: tan(fov_y/2), w: unused
     uvec4 size;         // width, height, tiles_x, tiles_y
     uvec4 scene;        // gaussian count, SH floats per Gaussian, SH degree used, antialiased
-    uvec4 capacity;     // x: key capacity, y: device group-count limit, z: style palette size (0: no style)
+    uvec4 capacity;     // x: key capacity, y: device group-count limit, z: style palette size (0: no style),
+                        // w: blend flags (kBlendResume | kBlendFinal | kBlendSlabIds)
 };
 
 // One projected Gaussian, written by preprocess and read by emit_keys and blend.
@@ -50,6 +58,11 @@ struct Splat {
     float opacity;      // after the antialiasing compensation
     vec4 conic;         // inverse 2D covariance (a, b, c) and w: the squared Mahalanobis extent
     vec4 color;         // rgb from SH, w: unused
+};
+
+// A streamed slab's labels from the scene's (render/gather_labels.comp).
+struct GatherPush {
+    uvec4 count;        // x: Gaussians in the slab
 };
 
 // One pixel of the last frame, picked (render/pick_pixel.comp): where a click lands.
@@ -64,6 +77,7 @@ struct PixelPick {
 
 #ifdef __cplusplus
 static_assert(sizeof(PickPush) == 16);
+static_assert(sizeof(GatherPush) == 16);
 static_assert(sizeof(PixelPick) == 48);
 static_assert(sizeof(FrameParams) == 176);
 static_assert(sizeof(Splat) == 48);

@@ -1,0 +1,137 @@
+// A scene past the binding limit or the memory cap is drawn in depth slabs: the frame must be
+// the one the resident scene gives (same blending order), styled or not, and a cap that
+// cannot hold a slab is one clear error.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "tests/render/render_agreement.h"
+
+using namespace pg;
+
+namespace {
+
+// Binding limit that makes slabs of about `slab` Gaussians for SH degree <= 1 (widest array:
+// the 48-byte splats).
+render::SceneBudget slabs_of(uint32_t slab) {
+    render::SceneBudget b;
+    b.max_binding_bytes = uint64_t(slab) * 48;
+    return b;
+}
+
+// The random scene plus a camera inside it, so Gaussians lie behind it, beside the frustum
+// and across the near plane.
+ref::TestScene scene_with_inside_camera(uint64_t seed, size_t n, int sh) {
+    ref::TestScene s = ref::random_scene(seed, n, sh);
+    data::Camera inside = s.cameras[0];
+    inside.name = "inside";
+    const glm::dvec3 centre = inside.position();
+    inside.t = -(inside.R * (0.15 * centre));  // 85 % of the way to the origin
+    s.cameras.push_back(inside);
+    return s;
+}
+
+struct FrameDiff {
+    size_t pixels = 0, rgba = 0, depth = 0, tau = 0, contributors = 0;
+    float max_rgba = 0;
+};
+
+FrameDiff diff(const render::RenderImages& a, const render::RenderImages& b) {
+    FrameDiff d;
+    d.pixels = a.tau_id.size();
+    for (size_t p = 0; p < d.pixels; ++p) {
+        float e = 0;
+        for (int c = 0; c < 4; ++c) e = std::max(e, std::abs(a.rgba[p * 4 + c] - b.rgba[p * 4 + c]));
+        d.max_rgba = std::max(d.max_rgba, e);
+        d.rgba += e > 0;
+        d.depth += a.depth[p] != b.depth[p] || a.tau_depth[p] != b.tau_depth[p];
+        d.tau += a.tau_id[p] != b.tau_id[p];
+        d.contributors += a.contributors[p] != b.contributors[p];
+    }
+    return d;
+}
+
+void check_streamed(const ref::TestScene& scene, uint32_t slab, const test::StyleData* style = nullptr) {
+    auto& ctx = test::gpu();
+    render::GpuScene resident(ctx, scene.cloud), streamed(ctx, scene.cloud, slabs_of(slab));
+    REQUIRE_FALSE(resident.streamed());
+    REQUIRE(streamed.streamed());
+    REQUIRE(streamed.slab_capacity() == slab);
+    vk::Buffer labels, palette;
+    render::RenderStyle rs;
+    if (style) {
+        labels = vk::upload_vector(ctx, style->labels, "labels");
+        palette = vk::upload_vector(ctx, style->palette, "palette");
+        rs = {&labels, &palette, uint32_t(style->palette.size())};
+    }
+    render::Renderer a(ctx), b(ctx);
+    int most_slabs = 0;
+    for (const auto& cam : scene.cameras) {
+        INFO("camera " << cam.name);
+        a.render(resident, cam, {}, style ? &rs : nullptr);
+        b.render(streamed, cam, {}, style ? &rs : nullptr);
+        CHECK(a.slabs() == 1);
+        most_slabs = std::max(most_slabs, b.slabs());
+        const auto d = diff(a.read(), b.read());
+        // The slabs keep the resident blending order: the same sums in the same sequence.
+        CHECK(d.max_rgba <= 1e-6f);
+        CHECK(d.depth <= d.pixels / 1000);
+        CHECK(d.tau <= d.pixels / 1000);
+        CHECK(d.contributors <= d.pixels / 1000);
+        CHECK(a.key_count() >= b.key_count());  // the host cull drops only what draws nothing
+    }
+    CHECK(most_slabs >= 3);
+}
+
+}  // namespace
+
+TEST_CASE("a streamed scene renders like the resident one (slabs of 4096, SH degree 1)") {
+    check_streamed(scene_with_inside_camera(21, 20000, 1), 4096);
+}
+
+TEST_CASE("a streamed scene renders like the resident one with a style (labels gathered per slab)") {
+    const auto scene = scene_with_inside_camera(22, 16000, 0);
+    test::StyleData style;
+    style.palette = {{0.9f, 0.1f, 0.8f, 0.0f}, {1.0f, 0.0f, 0.0f, 0.5f}, {0.0f, 0.0f, 1.0f, -1.0f}};
+    for (size_t i = 0; i < scene.cloud.size(); ++i) style.labels.push_back(int32_t(i % 3));
+    check_streamed(scene, 5000, &style);
+}
+
+TEST_CASE("a streamed frame's tau ids are scene ids") {
+    const auto scene = ref::random_scene(23, 12000, 0);
+    auto& ctx = test::gpu();
+    render::GpuScene resident(ctx, scene.cloud), streamed(ctx, scene.cloud, slabs_of(4096));
+    render::Renderer a(ctx), b(ctx);
+    a.render(resident, scene.cameras[0], {});
+    b.render(streamed, scene.cameras[0], {});
+    REQUIRE(b.slabs() >= 2);
+    const auto ra = a.read(), rb = b.read();
+    size_t hit = 0, same = 0;
+    for (size_t p = 0; p < ra.tau_id.size(); ++p) {
+        hit += ra.tau_id[p] >= 0;
+        same += ra.tau_id[p] >= 0 && ra.tau_id[p] == rb.tau_id[p];
+    }
+    REQUIRE(hit > 1000);
+    CHECK(same >= hit - hit / 1000);
+}
+
+TEST_CASE("a memory cap that cannot hold one slab is one clear error") {
+    const auto scene = ref::random_scene(24, 9000, 3);
+    auto& ctx = test::gpu();
+    render::SceneBudget b;
+    b.max_device_bytes = 1 << 20;  // 1 MiB: a slab of 4096 SH-3 Gaussians needs more
+    try {
+        render::GpuScene s(ctx, scene.cloud, b);
+        FAIL("no error");
+    } catch (const std::runtime_error& e) {
+        const std::string what = e.what();
+        CHECK(what.find("needs at least") != std::string::npos);
+        CHECK(what.find("1 MiB allowed") != std::string::npos);
+    }
+    // A cap that holds about half of the scene streams it.
+    b.max_device_bytes = render::frame_bytes_per_gaussian(48) * 5000;
+    render::GpuScene s(ctx, scene.cloud, b);
+    CHECK(s.streamed());
+    CHECK(s.slab_capacity() == 5000);
+}
