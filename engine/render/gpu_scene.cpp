@@ -31,8 +31,7 @@ uint64_t frame_bytes_per_gaussian(uint32_t sh_floats) {
     return scene + renderer + keys;
 }
 
-GpuScene::GpuScene(vk::Context& ctx, const data::GaussianCloud& cloud, const SceneBudget& budget)
-    : ctx_(ctx), cloud_(&cloud) {
+GpuScene::GpuScene(vk::Context& ctx, const data::GaussianCloud& cloud, const SceneBudget& budget) : cloud_(&cloud) {
     if (cloud.size() > std::numeric_limits<uint32_t>::max() / 8)
         throw std::runtime_error("scene has " + std::to_string(cloud.size()) + " Gaussians, more than the renderer indexes");
     count_ = uint32_t(cloud.size());
@@ -58,42 +57,52 @@ GpuScene::GpuScene(vk::Context& ctx, const data::GaussianCloud& cloud, const Sce
                                  mib(memory) + (budget.max_device_bytes ? " allowed" : " available"));
     streamed_ = fit < count_;
     capacity_ = streamed_ ? uint32_t(fit) : count_;
-    if (!streamed_) upload(nullptr, count_);
-    else {
-        means = vk::Buffer(ctx, uint64_t(capacity_) * 16, vk::MemoryUse::Device, "means (slab)");
-        shapes = vk::Buffer(ctx, uint64_t(capacity_) * 32, vk::MemoryUse::Device, "shapes (slab)");
-        sh = vk::Buffer(ctx, uint64_t(capacity_) * 4 * sh_floats_, vk::MemoryUse::Device, "sh (slab)");
+    if (streamed_) return;
+    std::vector<glm::vec4> m(count_), s(2 * size_t(count_));
+    for (uint32_t i = 0; i < count_; ++i) {
+        m[i] = glm::vec4(cloud.mean[i], cloud.opacity_logit[i]);
+        s[2 * i] = glm::vec4(cloud.log_scale[i], 0.0f);
+        s[2 * i + 1] = cloud.rotation[i];
     }
+    means = vk::upload_vector(ctx, m, "means");
+    shapes = vk::upload_vector(ctx, s, "shapes");
+    sh = vk::upload_vector(ctx, cloud.sh, "sh");
 }
 
-void GpuScene::load_slab(const std::vector<uint32_t>& ids) {
-    if (!streamed_) throw std::logic_error("GpuScene::load_slab: the scene is resident");
-    if (ids.size() > capacity_) throw std::logic_error("GpuScene::load_slab: slab larger than its buffers");
-    upload(&ids, uint32_t(ids.size()));
-}
+SceneSlab::SceneSlab(vk::Context& ctx, std::string name)
+    : means(ctx, 0, vk::MemoryUse::Device, name + " means"),
+      shapes(ctx, 0, vk::MemoryUse::Device, name + " shapes"),
+      sh(ctx, 0, vk::MemoryUse::Device, name + " sh"),
+      ctx_(ctx) {}
 
-void GpuScene::upload(const std::vector<uint32_t>* ids, uint32_t n) {
-    const data::GaussianCloud& cloud = *cloud_;
-    const uint32_t shf = sh_floats_;
-    std::vector<glm::vec4> m(n), s(2 * size_t(n));
-    std::vector<float> c(ids ? size_t(n) * shf : 0);  // resident: cloud.sh is uploaded as it is
+void SceneSlab::load(const GpuScene& scene, const std::vector<uint32_t>& ids) {
+    if (!scene.streamed()) throw std::logic_error("SceneSlab::load: the scene is resident");
+    if (ids.size() > scene.slab_capacity()) throw std::logic_error("SceneSlab::load: more Gaussians than a slab holds");
+    const data::GaussianCloud& cloud = scene.cloud();
+    const uint32_t n = uint32_t(ids.size()), shf = scene.sh_floats();
+    means.ensure(std::max<uint64_t>(uint64_t(scene.slab_capacity()) * 16, 16));
+    shapes.ensure(std::max<uint64_t>(uint64_t(scene.slab_capacity()) * 32, 16));
+    sh.ensure(std::max<uint64_t>(uint64_t(scene.slab_capacity()) * 4 * shf, 16));
+    // On unified memory the Gaussians are gathered straight into the mapped buffers.
+    const bool direct = means.mapped() && shapes.mapped() && sh.mapped();
+    std::vector<glm::vec4> host_m(direct ? 0 : n), host_s(direct ? 0 : 2 * size_t(n));
+    std::vector<float> host_c(direct ? 0 : size_t(n) * shf);
+    glm::vec4* m = direct ? means.as<glm::vec4>() : host_m.data();
+    glm::vec4* s = direct ? shapes.as<glm::vec4>() : host_s.data();
+    float* c = direct ? sh.as<float>() : host_c.data();
     for (uint32_t k = 0; k < n; ++k) {
-        const uint32_t i = ids ? (*ids)[k] : k;
+        const uint32_t i = ids[k];
         m[k] = glm::vec4(cloud.mean[i], cloud.opacity_logit[i]);
         s[2 * size_t(k)] = glm::vec4(cloud.log_scale[i], 0.0f);
         s[2 * size_t(k) + 1] = cloud.rotation[i];
-        if (ids) std::copy_n(&cloud.sh[size_t(i) * shf], shf, &c[size_t(k) * shf]);
+        std::copy_n(&cloud.sh[size_t(i) * shf], shf, &c[size_t(k) * shf]);
     }
-    if (!ids) {
-        means = vk::upload_vector(ctx_, m, "means");
-        shapes = vk::upload_vector(ctx_, s, "shapes");
-        sh = vk::upload_vector(ctx_, cloud.sh, "sh");
-    } else if (n) {
-        vk::upload(ctx_, means, m.data(), m.size() * sizeof(glm::vec4));
-        vk::upload(ctx_, shapes, s.data(), s.size() * sizeof(glm::vec4));
-        vk::upload(ctx_, sh, c.data(), c.size() * sizeof(float));
+    if (!direct && n) {
+        vk::upload(ctx_, means, m, size_t(n) * sizeof(glm::vec4));
+        vk::upload(ctx_, shapes, s, 2 * size_t(n) * sizeof(glm::vec4));
+        vk::upload(ctx_, sh, c, size_t(n) * shf * sizeof(float));
     }
-    loaded_ = n;
+    size_ = n;
 }
 
 }  // namespace pg::render

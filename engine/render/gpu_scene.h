@@ -2,6 +2,7 @@
 // A Gaussian cloud on the device in the layout the shaders read: uploaded once when it fits,
 // else streamed in slabs (a few hundred thousand Gaussians at a time) from the host copy.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "dataset/gaussian_cloud.h"
@@ -29,26 +30,38 @@ public:
     int sh_degree() const { return sh_degree_; }
     uint32_t sh_floats() const { return sh_floats_; }  // SH floats per Gaussian: 3 * (degree + 1)^2
 
-    // Streamed: the device buffers hold one slab of at most slab_capacity() Gaussians at a time.
+    // Streamed: the buffers below are empty; passes gather SceneSlabs of at most
+    // slab_capacity() Gaussians from the host copy.
     bool streamed() const { return streamed_; }
     uint32_t slab_capacity() const { return capacity_; }
     const data::GaussianCloud& cloud() const { return *cloud_; }
-    // Gathers the listed Gaussians (scene indices) into the device buffers, in that order.
-    void load_slab(const std::vector<uint32_t>& ids);
-    uint32_t loaded() const { return loaded_; }  // Gaussians in the device buffers now
 
     vk::Buffer means;   // vec4: xyz, opacity logit
     vk::Buffer shapes;  // 2 x vec4 per Gaussian: log-scale xyz, quaternion wxyz
     vk::Buffer sh;      // sh_floats() per Gaussian, coefficient-major then channel
 
 private:
-    void upload(const std::vector<uint32_t>* ids, uint32_t n);
-
-    vk::Context& ctx_;
     const data::GaussianCloud* cloud_;
-    uint32_t count_ = 0, sh_floats_ = 3, capacity_ = 0, loaded_ = 0;
+    uint32_t count_ = 0, sh_floats_ = 3, capacity_ = 0;
     int sh_degree_ = 0;
     bool streamed_ = false;
+};
+
+// Some of a streamed scene's Gaussians in GpuScene's layout, owned by the pass that reads them
+// (each has its own, so a renderer and a segmenter on two threads never share one).
+class SceneSlab {
+public:
+    SceneSlab(vk::Context& ctx, std::string name);
+    // Gathers the listed Gaussians (scene indices, at most scene.slab_capacity()) in that order.
+    // The device must be done with the previous slab.
+    void load(const GpuScene& scene, const std::vector<uint32_t>& ids);
+    uint32_t size() const { return size_; }
+
+    vk::Buffer means, shapes, sh;
+
+private:
+    vk::Context& ctx_;
+    uint32_t size_ = 0;
 };
 
 }  // namespace pg::render

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "engine/render/slab_order.h"
 #include "engine/vk/context.h"
 #include "shaders/common/common_shared.h"
 #include "shaders/render/render_shared.h"
@@ -56,7 +57,8 @@ Renderer::Renderer(vk::Context& ctx)
       counters_(ctx, 16, vk::MemoryUse::Device, "render counters"),
       args_(ctx, 16, vk::MemoryUse::Device, "render indirect args"),
       no_style_(ctx, 16, vk::MemoryUse::Device, "no render style"),
-      pick_(ctx, sizeof(gpu::PixelPick), vk::MemoryUse::Device, "pixel pick") {}
+      pick_(ctx, sizeof(gpu::PixelPick), vk::MemoryUse::Device, "pixel pick"),
+      slab_(ctx, "render slab") {}
 
 void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, const RenderSettings& settings,
                       const RenderStyle* style) {
@@ -98,7 +100,8 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
 
     // Streamed: the Gaussians in front of the camera, in depth order, cut into slabs; each slab
     // is blended over the state the slab before left, so the frame is the in-memory one.
-    const auto order = depth_order(scene.cloud(), camera, settings);
+    const auto order = slab_order(scene.cloud(), camera, settings);
+    slab_host_ids_.clear();
     if (order.empty()) {
         render_slab(scene, camera, settings, style, 0, gpu::kBlendFinal);
         return;
@@ -118,7 +121,8 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
         while (end < order.size() && end > begin + 1 && order[end].first == order[end - 1].first) --end;
         ids.resize(end - begin);
         for (size_t k = begin; k < end; ++k) ids[k - begin] = order[k].second;
-        const_cast<GpuScene&>(scene).load_slab(ids);
+        slab_.load(scene, ids);
+        slab_host_ids_ = ids;
         vk::upload(ctx_, slab_ids_, ids.data(), ids.size() * 4);
         uint32_t flags = gpu::kBlendSlabIds;
         if (begin > 0) flags |= gpu::kBlendResume;
@@ -128,46 +132,15 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     }
 }
 
-std::vector<std::pair<uint32_t, uint32_t>> Renderer::depth_order(const data::GaussianCloud& cloud,
-                                                                 const data::Camera& camera,
-                                                                 const RenderSettings& settings) const {
-    // What preprocess can keep: in front of the near plane, opacity over kAlphaMin, and a
-    // footprint that may reach the image. The footprint bound is preprocess's own math with
-    // every factor at its largest: the EWA covariance's largest eigenvalue is at most
-    // |J|_F^2 sigma_max^2, plus the low-pass term, times the largest squared extent 2 ln 255.
-    // The key is preprocess's too: the bits of the float view depth.
-    const glm::mat4 view(camera.world_to_camera());
-    const float near = settings.near;
-    const float fx = float(camera.fx), fy = float(camera.fy), cx = float(camera.cx), cy = float(camera.cy);
-    const float w = float(camera.width), h = float(camera.height);
-    const float limx = gpu::kFovClamp * 0.5f * w / fx, limy = gpu::kFovClamp * 0.5f * h / fy;
-    const float extent2 = 2.0f * std::log(255.0f) * 1.001f + 1e-3f;
-    const float min_logit = std::log(gpu::kAlphaMin / (1.0f - gpu::kAlphaMin));
-    std::vector<std::pair<uint32_t, uint32_t>> order;
-    order.reserve(cloud.size() / 2);
-    for (size_t i = 0; i < cloud.size(); ++i) {
-        if (cloud.opacity_logit[i] < min_logit) continue;
-        const glm::vec3 p = glm::vec3(view * glm::vec4(cloud.mean[i], 1.0f));
-        if (!(p.z > near)) continue;
-        const glm::vec3 ls = cloud.log_scale[i];
-        const float s2 = std::exp(2.0f * std::max({ls.x, ls.y, ls.z}));
-        const float ux = std::clamp(p.x / p.z, -limx, limx), uy = std::clamp(p.y / p.z, -limy, limy);
-        const float j2 = (fx * fx * (1 + ux * ux) + fy * fy * (1 + uy * uy)) / (p.z * p.z);
-        const float r = std::sqrt(extent2 * (j2 * s2 + gpu::kLowPass)) + 2.0f;
-        const float u = fx * p.x / p.z + cx, v = fy * p.y / p.z + cy;
-        if (u + r < 0 || u - r > w || v + r < 0 || v - r > h) continue;  // NaN: kept, as preprocess would
-        order.emplace_back(std::bit_cast<uint32_t>(p.z), uint32_t(i));
-    }
-    std::sort(order.begin(), order.end());
-    return order;
-}
-
 void Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings,
                            const RenderStyle* style, uint32_t n, uint32_t flags) {
     const uint32_t tiles_x = vk::ceil_div(uint32_t(width_), gpu::kTileSize);
     const uint32_t tiles_y = vk::ceil_div(uint32_t(height_), gpu::kTileSize);
     const uint32_t tiles = tiles_x * tiles_y;
     const bool slab = (flags & gpu::kBlendSlabIds) != 0;
+    const vk::Buffer& means = slab ? slab_.means : scene.means;
+    const vk::Buffer& shapes = slab ? slab_.shapes : scene.shapes;
+    const vk::Buffer& sh = slab ? slab_.sh : scene.sh;
     const vk::Buffer* labels = style ? style->labels : &no_style_;
     const vk::Buffer& palette = style ? *style->palette : no_style_;
     const uint32_t palette_size = style ? style->palette_size : 0;
@@ -203,7 +176,7 @@ void Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, co
             labels = &slab_labels_;
         }
         cmd_.begin_pass("preprocess");
-        cmd_.dispatch("render/preprocess", {frame_, scene.means, scene.shapes, scene.sh, splats_, touched_, rects_,
+        cmd_.dispatch("render/preprocess", {frame_, means, shapes, sh, splats_, touched_, rects_,
                                             depth_keys_, order_, *labels, palette},
                       vk::ceil_div(n, 256));
         // Two stable sorts give the tile-major, front-to-back order of a 64-bit tile|depth sort
@@ -255,20 +228,24 @@ uint32_t Renderer::tiles_y() const { return vk::ceil_div(uint32_t(height_), gpu:
 
 PixelPick Renderer::pick(int x, int y) {
     if (!last_scene_) throw std::logic_error("Renderer::pick: nothing was rendered");
-    if (last_scene_->streamed())
-        throw std::runtime_error("picking a pixel of a streamed scene (" + std::to_string(last_scene_->size()) +
-                                 " Gaussians in slabs of " + std::to_string(last_scene_->slab_capacity()) +
-                                 ") is not supported yet");
+    const bool streamed = last_scene_->streamed();
+    if (streamed && slabs_ > 1)
+        throw std::runtime_error("picking a pixel of a streamed scene needs a frame of one slab; this one took " +
+                                 std::to_string(slabs_) + " (render a window around the pixel)");
     if (x < 0 || y < 0 || x >= width_ || y >= height_)
         throw std::out_of_range("Renderer::pick: pixel (" + std::to_string(x) + ", " + std::to_string(y) +
                                 ") is off the " + std::to_string(width_) + "x" + std::to_string(height_) + " frame");
-    cmd_.dispatch("render/pick_pixel", {frame_, splats_, values_, ranges_, last_scene_->shapes, pick_},
+    cmd_.dispatch("render/pick_pixel", {frame_, splats_, values_, ranges_, streamed ? slab_.shapes : last_scene_->shapes, pick_},
                   gpu::PickPush{{uint32_t(x), uint32_t(y), 0, 0}}, 1);
     cmd_.submit_and_wait();
     const auto g = vk::download_vector<gpu::PixelPick>(ctx_, pick_, 1)[0];
     PixelPick p;
-    p.surface_id = g.ids.x == gpu::kNoGaussian ? -1 : int32_t(g.ids.x);
-    p.tau_id = g.ids.y == gpu::kNoGaussian ? -1 : int32_t(g.ids.y);
+    auto scene_id = [&](uint32_t id) {
+        if (id == gpu::kNoGaussian) return -1;
+        return int32_t(streamed ? slab_host_ids_.at(id) : id);
+    };
+    p.surface_id = scene_id(g.ids.x);
+    p.tau_id = scene_id(g.ids.y);
     p.surface_depth = g.depths.x;
     p.tau_depth = g.depths.y;
     p.surface_weight = g.weights.x;

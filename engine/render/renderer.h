@@ -25,6 +25,10 @@ struct RenderSettings {
     bool antialiased = false;      // Mip-Splatting opacity compensation
     int max_sh_degree = 3;
     float near = 0.2f;
+    // Pixels x0, y0 (inclusive) to x1, y1 (exclusive) that a streamed scene must draw: it culls
+    // everything that cannot reach them, and other pixels may stay blank. Empty (x1 <= x0):
+    // the whole image. Resident scenes always draw the whole image.
+    glm::ivec4 window{0};
 };
 
 // An optional per-Gaussian look for viewers: each Gaussian's label picks a palette entry whose
@@ -67,7 +71,8 @@ public:
                 const RenderStyle* style = nullptr);
     RenderImages read() const;
     // Pixel (x, y) of the last frame, walked on the device as the blend walked it; waits for it.
-    // The last frame's scene must still be alive.
+    // The last frame's scene must still be alive; a streamed scene's frame must have been one
+    // slab (render it with a window around the pixel).
     PixelPick pick(int x, int y);
 
     vk::Context& context() const { return ctx_; }
@@ -94,9 +99,6 @@ private:
     // in the scene's device buffers; flags: gpu::kBlend*.
     void render_slab(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings,
                      const RenderStyle* style, uint32_t n, uint32_t flags);
-    // (depth key, scene index) of every Gaussian preprocess could draw, front to back.
-    std::vector<std::pair<uint32_t, uint32_t>> depth_order(const data::GaussianCloud& cloud, const data::Camera& camera,
-                                                           const RenderSettings& settings) const;
 
     vk::Context& ctx_;
     vk::CommandList cmd_;
@@ -107,6 +109,8 @@ private:
     vk::Buffer no_style_;
     vk::Buffer pick_;      // one gpu::PixelPick
     vk::Buffer slab_ids_, slab_labels_, carry_[2];  // streamed scenes only
+    std::vector<uint32_t> slab_host_ids_;           // the last slab's scene ids
+    SceneSlab slab_;
     const GpuScene* last_scene_ = nullptr;  // the scene of the last frame (pick reads its shapes)  // bound as labels and palette when a frame has no style
     uint32_t capacity_ = 0, key_count_ = 0;
     int width_ = 0, height_ = 0, retries_ = 0, slabs_ = 0;

@@ -65,7 +65,7 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     std::vector<glm::vec3> p(n);
     for (uint32_t i = 0; i < n; ++i) p[i] = cloud.mean[domain[i]];
     median_spacing_ = spacing_of(p);
-    glm::vec3 lo, hi;
+    glm::vec3 lo(0.0f), hi(0.0f);
     std::vector<float> axis(n);
     for (int a = 0; a < 3; ++a) {
         for (uint32_t i = 0; i < n; ++i) axis[i] = p[i][a];
@@ -110,8 +110,31 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     const auto graph_groups = [](uint64_t items) { return vk::ceil_div(items, gpu::kGraphGroup); };
 
     cmd_.begin_pass("graph nodes");
-    cmd_.dispatch("segment/graph_nodes", {scene.means, scene.shapes, scene.sh, domain_buf_, pos_, colour_, normal_},
-                  nodes_push, graph_groups(n));
+    if (!scene.streamed()) {
+        cmd_.dispatch("segment/graph_nodes", {scene.means, scene.shapes, scene.sh, domain_buf_, pos_, colour_, normal_},
+                      nodes_push, graph_groups(n));
+    } else {
+        // The domain's Gaussians a slab at a time (each slab must wait for the last to be read);
+        // slab node i is slab Gaussian i. Chunks of a multiple of 256 nodes keep the output
+        // windows at aligned offsets.
+        if (!slab_) slab_ = std::make_unique<render::SceneSlab>(ctx_, "graph slab");
+        const uint32_t chunk = std::max(256u, scene.slab_capacity() & ~255u);
+        std::vector<uint32_t> iota(std::min(chunk, n)), ids;
+        for (uint32_t i = 0; i < iota.size(); ++i) iota[i] = i;
+        vk::upload(ctx_, domain_buf_, iota.data(), iota.size() * 4);
+        for (uint32_t off = 0; off < n; off += chunk) {
+            const uint32_t m = std::min(chunk, n - off);
+            ids.assign(domain.begin() + off, domain.begin() + off + m);
+            slab_->load(scene, ids);
+            const gpu::GraphNodesPush push{{m, scene.sh_floats(), 0, 0}};
+            cmd_.dispatch("segment/graph_nodes",
+                          {slab_->means, slab_->shapes, slab_->sh, domain_buf_, vk::BufferRange(pos_, off * 16ull, m * 16ull),
+                           vk::BufferRange(colour_, off * 16ull, m * 16ull), vk::BufferRange(normal_, off * 16ull, m * 16ull)},
+                          push, graph_groups(m));
+            cmd_.submit_and_wait();
+        }
+        vk::upload(ctx_, domain_buf_, domain.data(), uint64_t(n) * 4);
+    }
     cmd_.begin_pass("graph cells");
     cmd_.dispatch("segment/graph_cells", {pos_, keys_, values_}, grid, graph_groups(n));
     sort_.sort(cmd_, keys_, values_, n, std::max(1u, bits.x + bits.y + bits.z), sort::KeyWidth::Bits32);

@@ -6,6 +6,7 @@
 // the local spacing, normals of the flattest axes and opacity, and the symmetric adjacency
 // W + W^T as rows of edge ids with each node's degree.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -62,6 +63,7 @@ private:
     vk::Context& ctx_;
     vk::CommandList cmd_;
     sort::RadixSort sort_;
+    std::unique_ptr<render::SceneSlab> slab_;  // a streamed scene's domain, a slab at a time
     vk::Buffer domain_buf_, pos_, colour_, normal_, keys_, values_, nbr_, dist_, spacing_, weight_, rows_, degree_;
     std::vector<uint32_t> domain_;
     uint32_t nodes_ = 0, k_ = 0;

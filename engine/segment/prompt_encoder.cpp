@@ -28,7 +28,9 @@ Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, con
                                          " image of view " + camera.name);
     render::RenderSettings s = settings;
     s.width = s.height = 0;
-    if (!rendered) renderer.render(scene, camera, s);
+    // A streamed scene draws only what reaches the pixel: one slab, whatever the scene's size.
+    if (scene.streamed()) s.window = glm::ivec4(px, py, px + 1, py + 1);
+    if (!rendered || scene.streamed()) renderer.render(scene, camera, s);
     const render::PixelPick pick = renderer.pick(px, py);
     if (!(pick.opacity >= kMinLiftCoverage))
         throw data::InputError(what, "pixel (" + std::to_string(px) + ", " + std::to_string(py) + ") of view " +
@@ -71,7 +73,8 @@ PromptEncoder::PromptEncoder(vk::Context& ctx)
       offsets_(ctx, 0, vk::MemoryUse::Device, "roi offsets"),
       total_(ctx, 16, vk::MemoryUse::Device, "roi count"),
       indices_(ctx, 0, vk::MemoryUse::Device, "roi indices"),
-      roi_weights_(ctx, 0, vk::MemoryUse::Device, "roi weights") {}
+      roi_weights_(ctx, 0, vk::MemoryUse::Device, "roi weights"),
+      means_window_(ctx, 0, vk::MemoryUse::Device, "centres (chunk)") {}
 
 EncodedPrompt PromptEncoder::encode(const render::GpuScene& scene, const std::vector<Anchor>& anchors, double sigma,
                                     const RoiBox& roi) {
@@ -98,8 +101,30 @@ EncodedPrompt PromptEncoder::encode(const render::GpuScene& scene, const std::ve
                                glm::vec4(glm::vec3(roi.length_axis), 0),
                                glm::vec4(glm::vec3(roi.width_axis), 0)};
     cmd_.begin_pass("click weights");
-    cmd_.dispatch("segment/click_weights", {scene.means, anchors_, weights_, flags_}, push,
-                  vk::ceil_div(n, gpu::kPromptGroup));
+    if (!scene.streamed()) {
+        cmd_.dispatch("segment/click_weights", {scene.means, anchors_, weights_, flags_}, push,
+                      vk::ceil_div(n, gpu::kPromptGroup));
+    } else {
+        // A streamed scene's centres a chunk at a time (chunks of 256k keep the output windows
+        // aligned); each chunk waits for the last to be read.
+        const uint32_t chunk = std::max(256u, scene.slab_capacity() & ~255u);
+        means_window_.ensure(uint64_t(std::min(chunk, n)) * 16);
+        std::vector<glm::vec4> m;
+        const auto& cloud = scene.cloud();
+        for (uint32_t off = 0; off < n; off += chunk) {
+            const uint32_t c = std::min(chunk, n - off);
+            m.resize(c);
+            for (uint32_t i = 0; i < c; ++i) m[i] = glm::vec4(cloud.mean[off + i], cloud.opacity_logit[off + i]);
+            vk::upload(ctx_, means_window_, m.data(), uint64_t(c) * 16);
+            gpu::ClickWeightsPush part = push;
+            part.count = c;
+            cmd_.dispatch("segment/click_weights",
+                          {means_window_, anchors_, vk::BufferRange(weights_, off * 8ull, c * 8ull),
+                           vk::BufferRange(flags_, off * 4ull, c * 4ull)},
+                          part, vk::ceil_div(c, gpu::kPromptGroup));
+            if (off + c < n) cmd_.submit_and_wait();
+        }
+    }
     cmd_.begin_pass("roi");
     scan_.exclusive(cmd_, flags_, offsets_, n, &total_, 0);
     cmd_.dispatch("segment/roi_compact", {flags_, offsets_, weights_, indices_, roi_weights_}, gpu::RoiCompactPush{n},

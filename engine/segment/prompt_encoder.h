@@ -59,6 +59,7 @@ private:
     vk::CommandList cmd_;
     sort::PrefixSum scan_;
     vk::Buffer anchors_, weights_, flags_, offsets_, total_, indices_, roi_weights_;
+    vk::Buffer means_window_;  // a streamed scene's centres, a chunk at a time
     std::vector<vk::PassTiming> timings_;
 };
 

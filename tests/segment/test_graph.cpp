@@ -309,3 +309,43 @@ TEST_CASE("segmenter: an object whose clicks cannot be lifted fails alone, the o
     o.strict = true;
     CHECK_THROWS_AS(segmenter.segment(p, o), data::InputError);
 }
+
+TEST_CASE("a streamed scene segments like the resident one: lifts, ROI, graph and walk") {
+    // Slabs of 4096 Gaussians (the splats are the widest array): the balls scene takes two.
+    auto s = balls_scene();
+    auto& ctx = test::gpu();
+    render::SceneBudget budget;
+    budget.max_binding_bytes = 4096 * 48;
+    render::GpuScene resident(ctx, s.cloud), streamed(ctx, s.cloud, budget);
+    REQUIRE(streamed.streamed());
+    seg::Segmenter a(ctx, s.cloud, resident, s.cameras), b(ctx, s.cloud, streamed, s.cameras);
+    seg::SegmentOptions o;
+    o.up = {0, -1, 0};
+    o.scale = 0.5;
+    o.graph = seg::GraphUse::Alone;
+    o.graph_options.colour = 10.0f;
+    // Pixel clicks (lifted through a render) on the left and middle balls, a 3D one on the right.
+    const data::Camera& cam = s.cameras[0];
+    auto pixel_of = [&](glm::dvec3 p) {
+        const glm::dvec3 c = cam.R * p + cam.t;
+        return glm::dvec2(cam.fx * c.x / c.z + cam.cx, cam.fy * c.y / c.z + cam.cy);
+    };
+    const glm::dvec2 left = pixel_of({-1.0, -0.26, -0.2}), middle = pixel_of({0.0, -0.26, -0.2});
+    data::Prompts p;
+    p.objects.push_back({"left", 1, {{"front", left.x, left.y, std::nullopt, true}}});
+    p.objects.push_back({"middle", 2, {{"front", middle.x, middle.y, std::nullopt, true}}});
+    p.objects.push_back({"right", 3, {point_click({1.0, -0.26, -0.25})}});
+    for (auto solver : {seg::GraphSolver::Walk, seg::GraphSolver::Forest}) {
+        o.solver = solver;
+        const auto ra = a.segment(p, o), rb = b.segment(p, o);
+        REQUIRE(ra.failed() == 0);
+        REQUIRE(rb.failed() == 0);
+        for (size_t j = 0; j < ra.objects.size(); ++j) {
+            CHECK(ra.objects[j].anchors.size() == rb.objects[j].anchors.size());
+            for (size_t c = 0; c < ra.objects[j].anchors.size(); ++c)
+                CHECK(ra.objects[j].anchors[c].gaussian == rb.objects[j].anchors[c].gaussian);
+        }
+        CHECK(ra.labels == rb.labels);
+        for (int id : {1, 2, 3}) CHECK(iou(rb.labels, id, s.ball, id) > 0.9);
+    }
+}
