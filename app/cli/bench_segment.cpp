@@ -50,7 +50,7 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     co.device = a.device.device;
     co.quiet = a.json;
     vk::Context ctx(co);
-    render::GpuScene scene(ctx, cloud);
+    render::GpuScene scene(ctx, cloud, scene_budget(a.device));
     seg::GroundTruthDecoder decoder(*labels);
     seg::Segmenter segmenter(ctx, cloud, scene, cameras, decoder);
     seg::SegmentOptions o;
@@ -138,6 +138,7 @@ void register_bench_segment(CLI::App& bench, std::function<void()>& run) {
         ->capture_default_str();
     cmd->add_flag("--json", a->json, "Print JSON instead of tables");
     add_device_option(*cmd, a->device);
+    add_memory_option(*cmd, a->device);
     cmd->callback([a, &run] { run = [a] { run_bench_segment(*a); }; });
 }
 

@@ -119,7 +119,7 @@ void run_segment(const SegmentArgs& args) {
     vk::ContextOptions co;
     co.device = a.device.device;
     vk::Context ctx(co);
-    render::GpuScene scene(ctx, cloud);
+    render::GpuScene scene(ctx, cloud, scene_budget(a.device));
     std::unique_ptr<seg::Decoder> decoder;
     if (network && ground_truth) decoder = std::make_unique<seg::GroundTruthDecoder>(*gt);
     else if (network) decoder = std::make_unique<Ptv3Decoder>(ctx, a.model);
@@ -246,6 +246,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--walk-sure", a->walk_sure, "walk+forest: the walk's label stands where its share of the probability reaches this")->capture_default_str();
     cmd->add_option("--walk-tolerance", a->walk.tolerance, "Graph: relative residual to stop at")->capture_default_str();
     add_device_option(*cmd, a->device);
+    add_memory_option(*cmd, a->device);
     cmd->callback([a, &run] { run = [a] { run_segment(*a); }; });
 }
 

@@ -61,7 +61,7 @@ Renderer::Renderer(vk::Context& ctx)
       slab_(ctx, "render slab") {}
 
 void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, const RenderSettings& settings,
-                      const RenderStyle* style) {
+                      const RenderStyle* style, const SlabHook& after_slab) {
     data::Camera camera = camera_in;
     if (settings.width > 0 && settings.height > 0) camera = camera_in.resized(settings.width, settings.height);
     if (camera.width <= 0 || camera.height <= 0 || camera.width > 16384 || camera.height > 16384)
@@ -94,7 +94,7 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     timings_.clear();
     slabs_ = 0;
     if (!scene.streamed()) {
-        render_slab(scene, camera, settings, style, scene.size(), gpu::kBlendFinal);
+        render_slab(scene, camera, settings, style, scene.size(), gpu::kBlendFinal, after_slab);
         return;
     }
 
@@ -103,7 +103,7 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     const auto order = slab_order(scene.cloud(), camera, settings);
     slab_host_ids_.clear();
     if (order.empty()) {
-        render_slab(scene, camera, settings, style, 0, gpu::kBlendFinal);
+        render_slab(scene, camera, settings, style, 0, gpu::kBlendFinal, after_slab);
         return;
     }
     if (!slab_ids_.valid()) {
@@ -127,13 +127,13 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
         uint32_t flags = gpu::kBlendSlabIds;
         if (begin > 0) flags |= gpu::kBlendResume;
         if (end == order.size()) flags |= gpu::kBlendFinal;
-        render_slab(scene, camera, settings, style, uint32_t(ids.size()), flags);
+        render_slab(scene, camera, settings, style, uint32_t(ids.size()), flags, after_slab);
         begin = end;
     }
 }
 
 void Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings,
-                           const RenderStyle* style, uint32_t n, uint32_t flags) {
+                           const RenderStyle* style, uint32_t n, uint32_t flags, const SlabHook& after_slab) {
     const uint32_t tiles_x = vk::ceil_div(uint32_t(width_), gpu::kTileSize);
     const uint32_t tiles_y = vk::ceil_div(uint32_t(height_), gpu::kTileSize);
     const uint32_t tiles = tiles_x * tiles_y;
@@ -199,6 +199,7 @@ void Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, co
         cmd_.begin_pass("blend");
         cmd_.dispatch_2d("render/blend", {frame_, splats_, values_, ranges_, image_, aux_, ids, carry_in, carry_out},
                          tiles_x, tiles_y);
+        if (after_slab) after_slab(cmd_, SlabPass{uint32_t(slabs_), n, flags, slab ? &slab_ids_ : nullptr});
         cmd_.end_pass();
         cmd_.submit_and_wait();
         for (auto& t : cmd_.timings()) {

@@ -4,6 +4,7 @@
 // passes. If the keys overflow their buffer the frame is rendered again with larger ones. A
 // streamed scene is drawn slab by slab, front to back, each blended over the last.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -62,13 +63,24 @@ struct PixelPick {
     float opacity = 0;        // the pixel's final opacity 1 - T
 };
 
+// One slab of a streamed frame, as a SlabHook sees it: its tile lists are the renderer's until
+// the next slab. `ids` holds the slab's scene ids (slab Gaussian i is scene Gaussian ids[i]);
+// flags are gpu::kBlend* (resume from the last slab's carry, or final).
+struct SlabPass {
+    uint32_t index = 0, size = 0, flags = 0;
+    const vk::Buffer* ids = nullptr;
+};
+// Records a pass that walks each slab's tile lists (label rasterization) into the frame's
+// command list, right after the slab's blend.
+using SlabHook = std::function<void(vk::CommandList&, const SlabPass&)>;
+
 class Renderer {
 public:
     explicit Renderer(vk::Context& ctx);
 
     // Renders one frame on the GPU and waits for it; outputs stay on the device until read().
     void render(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings,
-                const RenderStyle* style = nullptr);
+                const RenderStyle* style = nullptr, const SlabHook& after_slab = {});
     RenderImages read() const;
     // Pixel (x, y) of the last frame, walked on the device as the blend walked it; waits for it.
     // The last frame's scene must still be alive; a streamed scene's frame must have been one
@@ -98,7 +110,7 @@ private:
     // Records and runs one frame (or one slab of a streamed scene) over the first n Gaussians
     // in the scene's device buffers; flags: gpu::kBlend*.
     void render_slab(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings,
-                     const RenderStyle* style, uint32_t n, uint32_t flags);
+                     const RenderStyle* style, uint32_t n, uint32_t flags, const SlabHook& after_slab);
 
     vk::Context& ctx_;
     vk::CommandList cmd_;

@@ -1,8 +1,10 @@
 #include "engine/segment/label_raster.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "engine/vk/context.h"
+#include "shaders/render/render_shared.h"
 
 namespace pg::seg {
 
@@ -14,7 +16,12 @@ LabelMode parse_label_mode(const std::string& name) {
     throw std::invalid_argument("unknown label mode '" + name + "' (expected paper or occlusion)");
 }
 
-LabelRasterizer::LabelRasterizer(vk::Context& ctx) : ctx_(ctx), cmd_(ctx) {}
+LabelRasterizer::LabelRasterizer(vk::Context& ctx)
+    : ctx_(ctx),
+      cmd_(ctx),
+      none_(ctx, 16, vk::MemoryUse::Device, "no label carry"),
+      slab_labels_(ctx, 16, vk::MemoryUse::Device, "slab labels"),
+      carry_{vk::Buffer(ctx, 16, vk::MemoryUse::Device, "label carry"), vk::Buffer(ctx, 16, vk::MemoryUse::Device, "label carry")} {}
 
 void LabelRasterizer::rasterize(vk::CommandList& cmd, const render::Renderer& renderer,
                                 const vk::Buffer& gaussian_labels, vk::Buffer& label_image, LabelMode mode) {
@@ -34,7 +41,34 @@ void LabelRasterizer::rasterize(vk::CommandList& cmd, const render::Renderer& re
     // Whole ranges: the shader reads the label count from the buffer's length.
     cmd.dispatch_2d(shader,
                     {renderer.frame_buffer(), renderer.splat_buffer(), renderer.tile_values(), renderer.tile_ranges(),
-                     gaussian_labels, vk::BufferRange(label_image, 0, bytes)},
+                     gaussian_labels, vk::BufferRange(label_image, 0, bytes), none_, none_},
+                    renderer.tiles_x(), renderer.tiles_y());
+}
+
+void LabelRasterizer::rasterize_slab(vk::CommandList& cmd, const render::Renderer& renderer,
+                                     const render::SlabPass& slab, const vk::Buffer& gaussian_labels,
+                                     vk::Buffer& label_image, LabelMode mode) {
+    if (!gaussian_labels.valid() || gaussian_labels.size() < 4)
+        throw std::invalid_argument("label rasterization: the Gaussian label buffer is empty");
+    const uint64_t pixels = uint64_t(renderer.width()) * uint64_t(renderer.height());
+    const VkDeviceSize bytes = pixels * 4;
+    if (!label_image.valid()) label_image = vk::Buffer(ctx_, bytes, vk::MemoryUse::Device, "label image");
+    else label_image.ensure(bytes);
+    const vk::Buffer* labels = &gaussian_labels;
+    if (slab.ids) {
+        // The slab's labels in slab order; exactly `size` of them, so the shader's length check holds.
+        slab_labels_.ensure(std::max<uint64_t>(uint64_t(slab.size) * 4, 16));
+        cmd.dispatch("render/gather_labels", {*slab.ids, gaussian_labels, slab_labels_},
+                     render::gpu::GatherPush{{slab.size, 0, 0, 0}}, vk::ceil_div(slab.size, 256));
+        labels = &slab_labels_;
+    }
+    for (auto& c : carry_) c.ensure(pixels * render::gpu::kLabelCarryWords * 4);
+    const char* shader = mode == LabelMode::Paper ? "segment/label_paper" : "segment/label_occlusion";
+    const vk::BufferRange slab_range(*labels, 0, std::max<uint64_t>(uint64_t(slab.size) * 4, 4));
+    cmd.dispatch_2d(shader,
+                    {renderer.frame_buffer(), renderer.splat_buffer(), renderer.tile_values(), renderer.tile_ranges(),
+                     slab.ids ? slab_range : vk::BufferRange(gaussian_labels), vk::BufferRange(label_image, 0, bytes),
+                     carry_[slab.index % 2], carry_[(slab.index + 1) % 2]},
                     renderer.tiles_x(), renderer.tiles_y());
 }
 

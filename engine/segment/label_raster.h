@@ -45,6 +45,12 @@ public:
     void rasterize(vk::CommandList& cmd, const render::Renderer& renderer, const vk::Buffer& gaussian_labels,
                    vk::Buffer& label_image, LabelMode mode);
 
+    // The same for one slab of a streamed frame (call it from the frame's SlabHook): the slab's
+    // labels are gathered from `gaussian_labels` (scene order), the pixel state passes from
+    // slab to slab, and the last slab writes `label_image`.
+    void rasterize_slab(vk::CommandList& cmd, const render::Renderer& renderer, const render::SlabPass& slab,
+                        const vk::Buffer& gaussian_labels, vk::Buffer& label_image, LabelMode mode);
+
     // Convenience: uploads nothing, runs rasterize() on an own command list, waits and reads
     // the image back. The pass's GPU time is in last_ms().
     std::vector<uint32_t> rasterize_and_read(const render::Renderer& renderer, const vk::Buffer& gaussian_labels,
@@ -55,6 +61,7 @@ private:
     vk::Context& ctx_;
     vk::CommandList cmd_;
     vk::Buffer image_;
+    vk::Buffer none_, slab_labels_, carry_[2];  // none_: bound where a pass reads no carry
     double last_ms_ = 0.0;
 };
 

@@ -56,9 +56,13 @@ MaskViews::MaskViews(vk::Context& ctx, const render::GpuScene& scene, const std:
 }
 
 const vk::Buffer& MaskViews::label_image(const render::Renderer& rendered, const MaskViewsOptions& o) {
-    const int w = rendered.width(), h = rendered.height();
     cmd_.begin_pass("label raster");
     rasterizer_.rasterize(cmd_, rendered, *labels_, raw_, o.mode);
+    return refined(rendered, o);
+}
+
+const vk::Buffer& MaskViews::refined(const render::Renderer& rendered, const MaskViewsOptions& o) {
+    const int w = rendered.width(), h = rendered.height();
     const vk::Buffer* result = &raw_;
     if (o.refine) {
         cmd_.begin_pass("refine");
@@ -77,6 +81,15 @@ const vk::Buffer& MaskViews::label_image(const render::Renderer& rendered, const
 }
 
 const vk::Buffer& MaskViews::label_image(const data::Camera& camera, const MaskViewsOptions& o) {
+    if (scene_.streamed()) {
+        // Each slab's labels are rasterized while its tile lists are on the device.
+        renderer_.render(scene_, camera, o.render, nullptr, [&](vk::CommandList& cmd, const render::SlabPass& slab) {
+            cmd.begin_pass("label raster");
+            rasterizer_.rasterize_slab(cmd, renderer_, slab, *labels_, raw_, o.mode);
+        });
+        for (auto& t : renderer_.timings()) stage_ms_[t.name == "label raster" ? t.name : "render"] += t.ms;
+        return refined(renderer_, o);
+    }
     renderer_.render(scene_, camera, o.render);
     for (auto& t : renderer_.timings()) stage_ms_["render"] += t.ms;
     return label_image(renderer_, o);

@@ -45,6 +45,8 @@ public:
     const std::map<std::string, double>& stage_ms() const { return stage_ms_; }
 
 private:
+    // Refines raw_ (the label image just rasterized) when the options ask; runs the recorded passes.
+    const vk::Buffer& refined(const render::Renderer& rendered, const MaskViewsOptions& options);
     vk::Context& ctx_;
     const render::GpuScene& scene_;
     render::Renderer renderer_;

@@ -9,7 +9,7 @@
 namespace pg::seg {
 
 RandomWalker::RandomWalker(vk::Context& ctx) : ctx_(ctx), cmd_(ctx) {
-    for (auto* b : {&seed_, &gamma_, &prior_, &x_, &b_, &inv_diag_, &r_, &z_, &p_, &ap_, &partials_, &scalars_, &edges_})
+    for (auto* b : {&seed_, &gamma_, &prior_, &x_, &b_, &inv_diag_, &r_, &z_, &p_, &ap_, &partials_, &scalars_, &edge_columns_, &edge_weights_})
         *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "random walker");
 }
 
@@ -38,7 +38,8 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
     vk::upload(ctx_, seed_, pr.seed.data(), uint64_t(n) * 4);
     vk::upload(ctx_, gamma_, gamma.data(), uint64_t(n) * 4);
     inv_diag_.ensure(uint64_t(n) * 4);
-    edges_.ensure(2ull * n * graph.k() * 8);
+    edge_columns_.ensure(2ull * n * graph.k() * 4);
+    edge_weights_.ensure(2ull * n * graph.k() * 4);
     const uint32_t most = std::min(total, gpu::kWalkMaxLabels);
     const uint32_t most_width = (most + 3) / 4 * 4;
     for (auto* b : {&prior_, &x_, &b_, &r_, &z_, &p_, &ap_}) b->ensure(uint64_t(n) * most_width * 4);
@@ -75,9 +76,9 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
         cmd_.begin_pass("walk start");
         cmd_.dispatch("segment/walk_rhs", {rows, entries, nbr, w, deg, seed_, gamma_, prior_, x_, b_, inv_diag_},
                       push[0], node_groups);
-        cmd_.dispatch("segment/walk_edges", {entries, nbr, w, seed_, rows, edges_}, push[0],
+        cmd_.dispatch("segment/walk_edges", {entries, nbr, w, seed_, rows, edge_columns_, edge_weights_}, push[0],
                       vk::ceil_div(2ull * n * graph.k(), gpu::kGraphGroup));
-        cmd_.dispatch("segment/walk_apply", {rows, edges_, deg, seed_, gamma_, x_, ap_, partials_}, push[0], node_groups);
+        cmd_.dispatch("segment/walk_apply", {rows, edge_columns_, edge_weights_, deg, seed_, gamma_, x_, ap_, partials_}, push[0], node_groups);
         cmd_.dispatch("segment/walk_residual", {b_, ap_, inv_diag_, r_, z_, p_, partials_}, push[3], node_groups);
         cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[3], reduce_groups);
         cmd_.dispatch("segment/walk_residual", {b_, ap_, inv_diag_, r_, z_, p_, partials_}, push[0], node_groups);
@@ -96,7 +97,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
             if (residual <= o.tolerance || it >= o.max_iterations) break;
             cmd_.begin_pass("walk iterations");
             for (uint32_t c = 0; c < o.check_every && it < o.max_iterations; ++c, ++it) {
-                cmd_.dispatch("segment/walk_apply", {rows, edges_, deg, seed_, gamma_, p_, ap_, partials_}, push[1],
+                cmd_.dispatch("segment/walk_apply", {rows, edge_columns_, edge_weights_, deg, seed_, gamma_, p_, ap_, partials_}, push[1],
                               node_groups);
                 cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[1], reduce_groups);
                 cmd_.dispatch("segment/walk_update", {scalars_, p_, ap_, inv_diag_, x_, r_, z_, partials_}, push[0],

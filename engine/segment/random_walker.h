@@ -42,7 +42,7 @@ public:
 private:
     vk::Context& ctx_;
     vk::CommandList cmd_;
-    vk::Buffer seed_, gamma_, prior_, x_, b_, inv_diag_, r_, z_, p_, ap_, partials_, scalars_, edges_;
+    vk::Buffer seed_, gamma_, prior_, x_, b_, inv_diag_, r_, z_, p_, ap_, partials_, scalars_, edge_columns_, edge_weights_;
     std::vector<vk::PassTiming> timings_;
 };
 

@@ -33,6 +33,7 @@ PG_CONST uint kBlendResume = 1u;
 PG_CONST uint kBlendFinal = 2u;
 PG_CONST uint kBlendSlabIds = 4u;
 PG_CONST uint kCarryWords = 12u;  // uints per pixel of carried state
+PG_CONST uint kLabelCarryWords = 20u;  // the same for the label rasterizers
 // A pixel's contributors that are further apart in depth than this x the sum of their
 // standard deviations along the ray lie on different surfaces: their 3-sigma supports do not
 // meet (render/pick_pixel.comp).

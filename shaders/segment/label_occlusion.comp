@@ -23,6 +23,9 @@ layout(std430, binding = 2) readonly buffer Values { uint values[]; };
 layout(std430, binding = 3) readonly buffer Ranges { uvec2 ranges[]; };
 layout(std430, binding = 4) readonly buffer Labels { uint labels[]; };         // per Gaussian, 0: none
 layout(std430, binding = 5) writeonly buffer LabelImage { uint label_image[]; };  // per pixel
+// A streamed scene's slabs pass the pixel state on (frame.capacity.w: kBlendResume / kBlendFinal).
+layout(std430, binding = 6) readonly buffer CarryIn { uint carry_in[]; };    // kLabelCarryWords per pixel
+layout(std430, binding = 7) writeonly buffer CarryOut { uint carry_out[]; };
 
 const uint kSlots = 8u;             // labels > 0 tracked per pixel
 const float kMinCoverage = 0.5;     // 1 - T below this: the pixel is background (0)
@@ -62,6 +65,20 @@ void main() {
     [[unroll]] for (uint s = 0u; s < kSlots; ++s) {
         slot_label[s] = 0u;  // empty slots: label 0, weight 0 (real weights are > 0)
         slot_w[s] = 0.0;
+    }
+    const uint flags = frame.capacity.w;
+    const uint c = (pix.y * width + pix.x) * kLabelCarryWords;
+    if ((flags & kBlendResume) != 0u && inside) {
+        T = uintBitsToFloat(carry_in[c]);
+        w0 = uintBitsToFloat(carry_in[c + 1u]);
+        [[unroll]] for (uint s = 0u; s < kSlots; ++s) {
+            slot_label[s] = carry_in[c + 2u + s];
+            slot_w[s] = uintBitsToFloat(carry_in[c + 2u + kSlots + s]);
+        }
+        if (carry_in[c + 2u + 2u * kSlots] != 0u) {
+            done = true;
+            atomicAdd(done_count, 1u);
+        }
     }
 
     for (uint start = range.x; start < range.y; start += kBlendGroup) {
@@ -163,6 +180,16 @@ void main() {
         if (done) atomicAdd(done_count, 1u);
     }
     if (!inside) return;
+    if ((flags & kBlendFinal) == 0u) {
+        carry_out[c] = floatBitsToUint(T);
+        carry_out[c + 1u] = floatBitsToUint(w0);
+        [[unroll]] for (uint s = 0u; s < kSlots; ++s) {
+            carry_out[c + 2u + s] = slot_label[s];
+            carry_out[c + 2u + kSlots + s] = floatBitsToUint(slot_w[s]);
+        }
+        carry_out[c + 2u + 2u * kSlots] = done ? 1u : 0u;
+        return;
+    }
     uint best = 0u;
     float best_w = w0;
     [[unroll]] for (uint s = 0u; s < kSlots; ++s) {

@@ -22,6 +22,9 @@ layout(std430, binding = 2) readonly buffer Values { uint values[]; };
 layout(std430, binding = 3) readonly buffer Ranges { uvec2 ranges[]; };
 layout(std430, binding = 4) readonly buffer Labels { uint labels[]; };         // per Gaussian, 0: none
 layout(std430, binding = 5) writeonly buffer LabelImage { uint label_image[]; };  // per pixel
+// A streamed scene's slabs pass the pixel's label on (frame.capacity.w: kBlendResume / kBlendFinal).
+layout(std430, binding = 6) readonly buffer CarryIn { uint carry_in[]; };    // kLabelCarryWords per pixel
+layout(std430, binding = 7) writeonly buffer CarryOut { uint carry_out[]; };
 
 const float kRho2Max = 4.0;  // the paper's tau: squared distance, in px^2
 const uint kRuns = kBlendGroup / 8u;
@@ -65,9 +68,11 @@ void main() {
     if (lid == 0u) done_count = 0u;
     barrier();
 
-    bool done = !inside;
+    const uint flags = frame.capacity.w;
+    const uint c = (pix.y * width + pix.x) * kLabelCarryWords;
+    uint label = (flags & kBlendResume) != 0u && inside ? carry_in[c] : 0u;
+    bool done = !inside || label != 0u;  // an earlier slab's hit is in front of this slab's
     if (done) atomicAdd(done_count, 1u);
-    uint label = 0u;
 
     uint p = 0u;
     for (uint start = range.x; start < range.y; start += kBlendGroup, p ^= 1u) {
@@ -116,5 +121,6 @@ void main() {
         }
     }
     if (!inside) return;
-    label_image[pix.y * width + pix.x] = label;
+    if ((flags & kBlendFinal) == 0u) carry_out[c] = label;
+    else label_image[pix.y * width + pix.x] = label;
 }

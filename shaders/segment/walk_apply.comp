@@ -7,13 +7,14 @@
 
 layout(local_size_x = 256) in;
 layout(std430, binding = 0) readonly buffer Rows { uint rows[]; };
-layout(std430, binding = 1) readonly buffer Edges { uvec2 edges[]; };  // walk_edges: column, weight bits
-layout(std430, binding = 2) readonly buffer Degree { float degree[]; };
-layout(std430, binding = 3) readonly buffer Seed { int seed[]; };
-layout(std430, binding = 4) readonly buffer Gamma { float gamma[]; };
-layout(std430, binding = 5) readonly buffer V { vec4 v[]; };
-layout(std430, binding = 6) writeonly buffer Y { vec4 y[]; };
-layout(std430, binding = 7) writeonly buffer Partials { vec4 partials[]; };
+layout(std430, binding = 1) readonly buffer EdgeColumns { uint edge_columns[]; };  // walk_edges
+layout(std430, binding = 2) readonly buffer EdgeWeights { float edge_weights[]; };
+layout(std430, binding = 3) readonly buffer Degree { float degree[]; };
+layout(std430, binding = 4) readonly buffer Seed { int seed[]; };
+layout(std430, binding = 5) readonly buffer Gamma { float gamma[]; };
+layout(std430, binding = 6) readonly buffer V { vec4 v[]; };
+layout(std430, binding = 7) writeonly buffer Y { vec4 y[]; };
+layout(std430, binding = 8) writeonly buffer Partials { vec4 partials[]; };
 layout(push_constant) uniform Push { WalkPush pc; };
 #include "segment/walk_common.glsl"
 
@@ -27,9 +28,9 @@ void main() {
         float diag = degree[i] + gamma[i];
         for (uint c = 0u; c < vecs; ++c) acc[c] = diag * v[i * vecs + c];
         for (uint s = rows[i]; s < rows[i + 1u]; ++s) {
-            uvec2 e = edges[s];
-            float w = uintBitsToFloat(e.y);
-            for (uint c = 0u; c < vecs; ++c) acc[c] -= w * v[e.x * vecs + c];
+            uint j = edge_columns[s];
+            float w = edge_weights[s];
+            for (uint c = 0u; c < vecs; ++c) acc[c] -= w * v[j * vecs + c];
         }
         for (uint c = 0u; c < vecs; ++c) dots[c] = acc[c] * v[i * vecs + c];
     }

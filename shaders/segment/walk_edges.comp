@@ -13,7 +13,9 @@ layout(std430, binding = 1) readonly buffer Nbr { uint nbr[]; };
 layout(std430, binding = 2) readonly buffer Weight { float weight[]; };
 layout(std430, binding = 3) readonly buffer Seed { int seed[]; };
 layout(std430, binding = 4) readonly buffer Rows { uint rows[]; };
-layout(std430, binding = 5) writeonly buffer Edges { uvec2 edges[]; };  // column, weight bits
+// Two arrays, not one of pairs: each stays under the binding limit for twice the nodes.
+layout(std430, binding = 5) writeonly buffer EdgeColumns { uint edge_columns[]; };
+layout(std430, binding = 6) writeonly buffer EdgeWeights { float edge_weights[]; };
 layout(push_constant) uniform Push { WalkPush pc; };
 
 void main() {
@@ -22,5 +24,6 @@ void main() {
     if (s >= rows[n]) return;
     uint e = values[s];
     uint j = EDGE_COLUMN(e, half_, k);
-    edges[s] = uvec2(j, floatBitsToUint(seed[j] == kWalkFree ? weight[edge_slot(e, half_)] : 0.0));
+    edge_columns[s] = j;
+    edge_weights[s] = seed[j] == kWalkFree ? weight[edge_slot(e, half_)] : 0.0;
 }

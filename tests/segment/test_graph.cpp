@@ -8,6 +8,7 @@
 #include "dataset/error.h"
 #include "dataset/up_axis.h"
 #include "engine/segment/knn_graph.h"
+#include "engine/segment/mask_views.h"
 #include "engine/segment/random_walker.h"
 #include "engine/segment/segmenter.h"
 #include "shaders/segment/graph_shared.h"
@@ -347,5 +348,21 @@ TEST_CASE("a streamed scene segments like the resident one: lifts, ROI, graph an
         }
         CHECK(ra.labels == rb.labels);
         for (int id : {1, 2, 3}) CHECK(iou(rb.labels, id, s.ball, id) > 0.9);
+    }
+    // Masks: each slab's labels rasterized over the last slab's pixel state, in both modes.
+    seg::MaskViews ma(ctx, resident, s.ball), mb(ctx, streamed, s.ball);
+    for (auto mode : {seg::LabelMode::Occlusion, seg::LabelMode::Paper}) {
+        INFO("mode " << seg::label_mode_name(mode));
+        seg::MaskViewsOptions mo;
+        mo.mode = mode;
+        mo.refine = false;
+        const auto va = ma.render(cam, mo, false), vb = mb.render(cam, mo, false);
+        size_t differ = 0, labelled = 0;
+        for (size_t i = 0; i < va.labels.size(); ++i) {
+            differ += va.labels[i] != vb.labels[i];
+            labelled += va.labels[i] != 0;
+        }
+        CHECK(labelled > va.labels.size() / 20);
+        CHECK(differ == 0);
     }
 }
