@@ -27,6 +27,7 @@ struct BenchRenderArgs {
 };
 
 void run_bench_render(const BenchRenderArgs& a) {
+    scene_budget(a.device);  // a bad --max-device-memory fails before anything loads
     if (a.frames < 1) throw data::InputError("--frames", "must be at least 1");
     if (a.warmup < 0) throw data::InputError("--warmup", "must not be negative");
     auto t_load = std::chrono::steady_clock::now();
@@ -37,7 +38,7 @@ void run_bench_render(const BenchRenderArgs& a) {
     co.device = a.device.device;
     co.quiet = a.json;
     vk::Context ctx(co);
-    render::GpuScene scene(ctx, cloud, scene_budget(a.device));
+    render::GpuScene scene = upload_scene(ctx, cloud, a.device);
     const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_load).count();
     render::Renderer renderer(ctx);
     render::RenderSettings settings;

@@ -30,6 +30,7 @@ struct BenchSegmentArgs {
 };
 
 void run_bench_segment(const BenchSegmentArgs& a) {
+    scene_budget(a.device);  // a bad --max-device-memory fails before anything loads
     if (a.repeats < 1) throw data::InputError("--repeats", "must be at least 1");
     auto cloud = data::load_scene(a.scene);
     auto cameras = data::load_cameras(a.cameras);
@@ -50,7 +51,7 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     co.device = a.device.device;
     co.quiet = a.json;
     vk::Context ctx(co);
-    render::GpuScene scene(ctx, cloud, scene_budget(a.device));
+    render::GpuScene scene = upload_scene(ctx, cloud, a.device);
     seg::GroundTruthDecoder decoder(*labels);
     seg::Segmenter segmenter(ctx, cloud, scene, cameras, decoder);
     seg::SegmentOptions o;

@@ -29,6 +29,8 @@ void add_device_option(CLI::App& cmd, DeviceOptions& opt);
 // --max-device-memory, for commands that put a whole scene on the device.
 void add_memory_option(CLI::App& cmd, DeviceOptions& opt);
 render::SceneBudget scene_budget(const DeviceOptions& opt);
+// The scene on the device within --max-device-memory; a cap it cannot fit in names the option.
+render::GpuScene upload_scene(vk::Context& ctx, const data::GaussianCloud& cloud, const DeviceOptions& opt);
 
 void register_info(CLI::App& app, std::function<void()>& run);
 void register_render(CLI::App& app, std::function<void()>& run);

@@ -65,6 +65,7 @@ void write_scaled16(const fs::path& path, int w, int h, const std::vector<float>
 }
 
 void run_render(const RenderArgs& a) {
+    scene_budget(a.device);  // a bad --max-device-memory fails before anything loads
     if ((a.width > 0) != (a.height > 0)) throw data::InputError("--width/--height", "give both or neither");
     if (a.width < 0 || a.height < 0 || a.width > 16384 || a.height > 16384)
         throw data::InputError("--width/--height", "must be between 1 and 16384");
@@ -83,7 +84,7 @@ void run_render(const RenderArgs& a) {
     vk::ContextOptions co;
     co.device = a.device.device;
     vk::Context ctx(co);
-    render::GpuScene scene(ctx, cloud, scene_budget(a.device));
+    render::GpuScene scene = upload_scene(ctx, cloud, a.device);
     render::Renderer renderer(ctx);
     render::RenderSettings settings;
     settings.width = a.width;

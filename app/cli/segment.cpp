@@ -67,6 +67,7 @@ std::string with_flags(const std::string& error) {
 namespace {
 
 void run_segment(const SegmentArgs& args) {
+    scene_budget(args.device);  // a bad --max-device-memory fails before anything loads
     auto total_start = std::chrono::steady_clock::now();
     SegmentArgs a = args;
     // A model named without a decoder is meant to be used: the network with the graph.
@@ -119,7 +120,7 @@ void run_segment(const SegmentArgs& args) {
     vk::ContextOptions co;
     co.device = a.device.device;
     vk::Context ctx(co);
-    render::GpuScene scene(ctx, cloud, scene_budget(a.device));
+    render::GpuScene scene = upload_scene(ctx, cloud, a.device);
     std::unique_ptr<seg::Decoder> decoder;
     if (network && ground_truth) decoder = std::make_unique<seg::GroundTruthDecoder>(*gt);
     else if (network) decoder = std::make_unique<Ptv3Decoder>(ctx, a.model);

@@ -31,6 +31,16 @@ render::SceneBudget scene_budget(const DeviceOptions& opt) {
     return b;
 }
 
+render::GpuScene upload_scene(vk::Context& ctx, const data::GaussianCloud& cloud, const DeviceOptions& opt) {
+    const render::SceneBudget budget = scene_budget(opt);
+    try {
+        return render::GpuScene(ctx, cloud, budget);
+    } catch (const std::runtime_error& e) {
+        if (!budget.max_device_bytes) throw;
+        throw data::InputError("--max-device-memory " + opt.max_device_memory, e.what());
+    }
+}
+
 std::vector<size_t> select_views(const std::string& spec, const std::vector<data::Camera>& cameras) {
     std::vector<size_t> out;
     if (spec.empty() || spec == "all") {

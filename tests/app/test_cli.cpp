@@ -68,6 +68,31 @@ TEST_CASE("render writes one PNG per output and view, named after the cameras") 
     CHECK(report["views"][0]["depth_max"].get<double>() > 0.5);
 }
 
+TEST_CASE("render --max-device-memory streams the scene in slabs: the same pictures, or one clear error") {
+    auto dir = pg::test::scratch("cli-render-streamed");
+    fs::remove_all(dir);
+    const std::string common = "render " + sample() + "/scene.ply --cameras " + sample() +
+                               "/sparse/0 --views 0 --width 160 --height 120 --out ";
+    auto whole = run(common + (dir / "whole").string());
+    REQUIRE(whole.code == 0);
+    auto streamed = run(common + (dir / "streamed").string() + " --max-device-memory 6M");
+    INFO(streamed.out);
+    REQUIRE(streamed.code == 0);
+    auto report = nlohmann::json::parse(pg::data::read_text_file(dir / "streamed" / "render.json"));
+    REQUIRE(report.contains("slab_capacity"));
+    CHECK(report["views"][0]["slabs"].get<int>() >= 2);
+    auto a = pg::data::read_png8(dir / "whole" / "view_000.png"), b = pg::data::read_png8(dir / "streamed" / "view_000.png");
+    REQUIRE(a.pixels.size() == b.pixels.size());
+    size_t differ = 0;
+    for (size_t i = 0; i < a.pixels.size(); ++i) differ += a.pixels[i] != b.pixels[i];
+    CHECK(differ <= a.pixels.size() / 1000);
+    // A cap that cannot hold one slab names the option and writes nothing.
+    auto tiny = run(common + (dir / "tiny").string() + " --max-device-memory 64K");
+    CHECK(tiny.code != 0);
+    CHECK(tiny.out.find("--max-device-memory") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "tiny" / "view_000.png"));
+}
+
 TEST_CASE("bad input is one clear line, a non-zero exit and no output") {
     auto dir = pg::test::scratch("cli-errors");
     auto corpus = pg::test::fixtures() / "malformed";
@@ -84,6 +109,7 @@ TEST_CASE("bad input is one clear line, a non-zero exit and no output") {
         {"render " + sample() + "/scene.ply --cameras " + cams + " --width 100", "--width"},
         {"render " + sample() + "/scene.ply --cameras " + cams + " --background 1,2", "--background"},
         {"render " + cams + " --cameras " + cams, cams},
+        {"render " + sample() + "/scene.ply --cameras " + cams + " --max-device-memory lots", "--max-device-memory"},
         {"info " + sample() + "/scene.ply --cameras " + sample(), ""},  // a folder with sparse/0 is fine
     };
     for (auto& c : cases) {
