@@ -42,6 +42,7 @@ GpuScene::GpuScene(vk::Context& ctx, const data::GaussianCloud& cloud, const Sce
     const auto& info = ctx.info();
     uint64_t binding = info.max_storage_buffer_range;
     if (budget.max_binding_bytes) binding = std::min<uint64_t>(binding, budget.max_binding_bytes);
+    binding_ = binding;
     const uint64_t widest = std::max<uint64_t>({48, 32, 4ull * sh_floats_});
     uint64_t by_binding = binding / widest;
     // Tile keys are 4-byte arrays of kKeysPerGaussian per Gaussian.

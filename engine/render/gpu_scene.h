@@ -34,6 +34,7 @@ public:
     // slab_capacity() Gaussians from the host copy.
     bool streamed() const { return streamed_; }
     uint32_t slab_capacity() const { return capacity_; }
+    uint64_t binding_limit() const { return binding_; }  // bytes one binding may hold (the budget's, if lower)
     const data::GaussianCloud& cloud() const { return *cloud_; }
 
     vk::Buffer means;   // vec4: xyz, opacity logit
@@ -43,6 +44,7 @@ public:
 private:
     const data::GaussianCloud* cloud_;
     uint32_t count_ = 0, sh_floats_ = 3, capacity_ = 0;
+    uint64_t binding_ = 0;
     int sh_degree_ = 0;
     bool streamed_ = false;
 };

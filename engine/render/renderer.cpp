@@ -115,8 +115,9 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     const uint32_t capacity = scene.slab_capacity();
     slab_ids_.ensure(uint64_t(capacity) * 4);
     std::vector<uint32_t> ids;
+    size_t room = capacity;  // halved while a slab's tile keys would not fit a binding
     for (size_t begin = 0; begin < order.size();) {
-        size_t end = std::min(order.size(), begin + capacity);
+        size_t end = std::min(order.size(), begin + room);
         // Gaussians of equal depth stay in one slab, so their order is the in-memory one.
         while (end < order.size() && end > begin + 1 && order[end].first == order[end - 1].first) --end;
         ids.resize(end - begin);
@@ -127,12 +128,15 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
         uint32_t flags = gpu::kBlendSlabIds;
         if (begin > 0) flags |= gpu::kBlendResume;
         if (end == order.size()) flags |= gpu::kBlendFinal;
-        render_slab(scene, camera, settings, style, uint32_t(ids.size()), flags, after_slab);
+        if (!render_slab(scene, camera, settings, style, uint32_t(ids.size()), flags, after_slab)) {
+            room = std::max<size_t>(1, (end - begin) / 2);
+            continue;  // the carry it read is untouched: the smaller slab starts from it again
+        }
         begin = end;
     }
 }
 
-void Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings,
+bool Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings,
                            const RenderStyle* style, uint32_t n, uint32_t flags, const SlabHook& after_slab) {
     const uint32_t tiles_x = vk::ceil_div(uint32_t(width_), gpu::kTileSize);
     const uint32_t tiles_y = vk::ceil_div(uint32_t(height_), gpu::kTileSize);
@@ -215,13 +219,15 @@ void Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, co
         ++retries_;
         if (tries >= 3) throw std::runtime_error("renderer: key buffer kept overflowing");
         uint64_t grown = uint64_t(keys) + keys / 4;
-        uint64_t max_keys = ctx_.info().max_storage_buffer_range / 8;
+        const uint64_t max_keys = scene.binding_limit() / 8;
+        if (uint64_t(keys) > max_keys && slab && n > 1) return false;
         if (uint64_t(keys) > max_keys)
             throw std::runtime_error("frame needs " + std::to_string(keys) + " tile keys, more than the device can bind (" +
                                      std::to_string(max_keys) + "); render at a lower resolution");
         capacity_ = uint32_t(std::min(grown, max_keys));
     }
     ++slabs_;
+    return true;
 }
 
 uint32_t Renderer::tiles_x() const { return vk::ceil_div(uint32_t(width_), gpu::kTileSize); }

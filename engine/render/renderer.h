@@ -108,8 +108,9 @@ public:
 
 private:
     // Records and runs one frame (or one slab of a streamed scene) over the first n Gaussians
-    // in the scene's device buffers; flags: gpu::kBlend*.
-    void render_slab(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings,
+    // in the scene's device buffers; flags: gpu::kBlend*. False: the slab's tile keys cannot
+    // fit one binding (draw fewer Gaussians at a time).
+    bool render_slab(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings,
                      const RenderStyle* style, uint32_t n, uint32_t flags, const SlabHook& after_slab);
 
     vk::Context& ctx_;

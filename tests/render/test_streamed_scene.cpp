@@ -98,6 +98,24 @@ TEST_CASE("a streamed scene renders like the resident one with a style (labels g
     check_streamed(scene, 5000, &style);
 }
 
+TEST_CASE("a slab whose tile keys would pass the binding limit is drawn in smaller slabs") {
+    // Large Gaussians touch most tiles: 4096 of them need far more keys than a binding of
+    // 4096 x 48 bytes holds (24,576), so the renderer halves the slab until they fit.
+    auto scene = ref::random_scene(25, 6000, 0);
+    for (auto& s : scene.cloud.log_scale) s += glm::vec3(std::log(6.0f));
+    auto& ctx = test::gpu();
+    render::GpuScene resident(ctx, scene.cloud), streamed(ctx, scene.cloud, slabs_of(4096));
+    render::Renderer a(ctx), b(ctx);
+    const auto& cam = scene.cameras[0];
+    a.render(resident, cam, {});
+    b.render(streamed, cam, {});
+    REQUIRE(a.key_count() > 4 * 24576);
+    CHECK(b.slabs() > int(a.key_count() / 24576));
+    const auto d = diff(a.read(), b.read());
+    CHECK(d.max_rgba <= 1e-6f);
+    CHECK(d.tau <= d.pixels / 1000);
+}
+
 TEST_CASE("a streamed frame's tau ids are scene ids") {
     const auto scene = ref::random_scene(23, 12000, 0);
     auto& ctx = test::gpu();
