@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
+#include <memory>
 
 #include <nlohmann/json.hpp>
 
@@ -44,16 +45,25 @@ void run_bench_segment(const BenchSegmentArgs& a) {
             one.objects.push_back(obj);
             one.objects.back().clicks.resize(1);
         }
+    // The graph decoder alone needs no labels (any capture); the network's stand-in does.
     auto labels = cloud.int_property(a.label_property);
-    if (!labels) throw data::InputError(a.scene, "has no integer property '" + a.label_property + "'");
+    if (!labels && graph != seg::GraphUse::Alone)
+        throw data::InputError(a.scene, "has no integer property '" + a.label_property + "'");
 
     vk::ContextOptions co;
     co.device = a.device.device;
     co.quiet = a.json;
     vk::Context ctx(co);
     render::GpuScene scene = upload_scene(ctx, cloud, a.device);
-    seg::GroundTruthDecoder decoder(*labels);
-    seg::Segmenter segmenter(ctx, cloud, scene, cameras, decoder);
+    std::unique_ptr<seg::GroundTruthDecoder> decoder;
+    std::unique_ptr<seg::Segmenter> owned;
+    if (labels) {
+        decoder = std::make_unique<seg::GroundTruthDecoder>(*labels);
+        owned = std::make_unique<seg::Segmenter>(ctx, cloud, scene, cameras, *decoder);
+    } else {
+        owned = std::make_unique<seg::Segmenter>(ctx, cloud, scene, cameras);
+    }
+    seg::Segmenter& segmenter = *owned;
     seg::SegmentOptions o;
     o.up = data::up_from_cameras(cameras);
     o.graph = graph;
@@ -128,7 +138,7 @@ void run_bench_segment(const BenchSegmentArgs& a) {
 void register_bench_segment(CLI::App& bench, std::function<void()>& run) {
     auto a = std::make_shared<BenchSegmentArgs>();
     auto* cmd = bench.add_subcommand("segment", "Per-stage ms for one click and for the masks of one view");
-    cmd->add_option("scene", a->scene, "A labelled scene (the ground-truth decoder stands in for the network)")
+    cmd->add_option("scene", a->scene, "A scene; labelled (the ground-truth decoder stands in for the network) unless --decoder graph")
         ->required();
     cmd->add_option("--cameras", a->cameras, "Camera file or COLMAP folder")->required();
     cmd->add_option("--prompts", a->prompts, "prompts.json; its first click is measured")->required();

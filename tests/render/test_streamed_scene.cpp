@@ -116,6 +116,24 @@ TEST_CASE("a slab whose tile keys would pass the binding limit is drawn in small
     CHECK(d.tau <= d.pixels / 1000);
 }
 
+TEST_CASE("a streamed frame of nothing (the camera turned away) is the background") {
+    const auto scene = ref::random_scene(26, 9000, 0);
+    data::Camera away = scene.cameras[0];
+    away.R = glm::dmat3(-1, 0, 0, 0, 1, 0, 0, 0, -1) * away.R;  // half a turn about the camera's y axis
+    away.t = glm::dmat3(-1, 0, 0, 0, 1, 0, 0, 0, -1) * away.t;
+    auto& ctx = test::gpu();
+    render::GpuScene resident(ctx, scene.cloud), streamed(ctx, scene.cloud, slabs_of(4096));
+    render::Renderer a(ctx), b(ctx);
+    render::RenderSettings s;
+    s.background = {0.25f, 0.5f, 0.75f};
+    a.render(resident, away, s);
+    b.render(streamed, away, s);
+    const auto ra = a.read(), rb = b.read();
+    CHECK(ra.rgba == rb.rgba);
+    CHECK(rb.rgba[0] == 0.25f);
+    CHECK(std::count(rb.tau_id.begin(), rb.tau_id.end(), -1) == long(rb.tau_id.size()));
+}
+
 TEST_CASE("a streamed frame's tau ids are scene ids") {
     const auto scene = ref::random_scene(23, 12000, 0);
     auto& ctx = test::gpu();
