@@ -24,9 +24,10 @@ public:
 struct DeviceOptions {
     std::string device;             // --device NAME
     std::string max_device_memory;  // --max-device-memory BYTES (K, M, G suffixes)
+    bool half_sh = false;           // --half-sh
 };
 void add_device_option(CLI::App& cmd, DeviceOptions& opt);
-// --max-device-memory, for commands that put a whole scene on the device.
+// --max-device-memory and --half-sh, for commands that put a whole scene on the device.
 void add_memory_option(CLI::App& cmd, DeviceOptions& opt);
 render::SceneBudget scene_budget(const DeviceOptions& opt);
 // The scene on the device within --max-device-memory; a cap it cannot fit in names the option.

@@ -14,10 +14,14 @@ void add_memory_option(CLI::App& cmd, DeviceOptions& opt) {
     cmd.add_option("--max-device-memory", opt.max_device_memory,
                    "Device memory the scene may use (e.g. 512M, 2G); a scene past it, or past the device's "
                    "largest binding, is streamed in slabs. Default: the device's memory");
+    cmd.add_flag("--half-sh", opt.half_sh,
+                 "Keep SH coefficients on the device as fp16: half their memory (and twice the Gaussians per "
+                 "slab), colours within about 1e-3");
 }
 
 render::SceneBudget scene_budget(const DeviceOptions& opt) {
     render::SceneBudget b;
+    b.half_sh = opt.half_sh;
     if (opt.max_device_memory.empty()) return b;
     const std::string& s = opt.max_device_memory;
     double value = 0;

@@ -16,10 +16,11 @@ namespace pg::render {
 struct SceneBudget {
     uint64_t max_device_bytes = 0;   // 0: the device's memory
     uint64_t max_binding_bytes = 0;  // 0: the device's maxStorageBufferRange (tests lower it)
+    bool half_sh = false;            // SH coefficients as fp16 pairs: half their memory, colour within ~1e-3
 };
 
 // Device bytes per Gaussian of one frame: the scene's arrays, the renderer's and its tile keys.
-uint64_t frame_bytes_per_gaussian(uint32_t sh_floats);
+uint64_t frame_bytes_per_gaussian(uint32_t sh_words);
 
 class GpuScene {
 public:
@@ -28,7 +29,9 @@ public:
 
     uint32_t size() const { return count_; }
     int sh_degree() const { return sh_degree_; }
-    uint32_t sh_floats() const { return sh_floats_; }  // SH floats per Gaussian: 3 * (degree + 1)^2
+    uint32_t sh_floats() const { return sh_floats_; }  // SH values per Gaussian: 3 * (degree + 1)^2
+    bool half_sh() const { return half_sh_; }
+    uint32_t sh_words() const { return sh_words_; }    // 32-bit words per Gaussian in `sh`
 
     // Streamed: the buffers below are empty; passes gather SceneSlabs of at most
     // slab_capacity() Gaussians from the host copy.
@@ -39,11 +42,13 @@ public:
 
     vk::Buffer means;   // vec4: xyz, opacity logit
     vk::Buffer shapes;  // 2 x vec4 per Gaussian: log-scale xyz, quaternion wxyz
-    vk::Buffer sh;      // sh_floats() per Gaussian, coefficient-major then channel
+    vk::Buffer sh;      // sh_words() per Gaussian: sh_floats() values, coefficient-major then channel,
+                        // as floats or (half_sh) fp16 pairs, value j in half j % 2 of word j / 2
 
 private:
     const data::GaussianCloud* cloud_;
-    uint32_t count_ = 0, sh_floats_ = 3, capacity_ = 0;
+    uint32_t count_ = 0, sh_floats_ = 3, sh_words_ = 3, capacity_ = 0;
+    bool half_sh_ = false;
     uint64_t binding_ = 0;
     int sh_degree_ = 0;
     bool streamed_ = false;

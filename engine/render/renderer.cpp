@@ -15,7 +15,7 @@ namespace pg::render {
 
 namespace {
 
-gpu::FrameParams frame_params(const data::Camera& cam, const RenderSettings& s, uint32_t count, uint32_t sh_floats,
+gpu::FrameParams frame_params(const data::Camera& cam, const RenderSettings& s, uint32_t count, uint32_t sh_words,
                               int sh_degree, uint32_t capacity, uint32_t group_limit, uint32_t palette_size) {
     gpu::FrameParams f{};
     glm::dmat4 view = cam.world_to_camera();
@@ -27,7 +27,7 @@ gpu::FrameParams frame_params(const data::Camera& cam, const RenderSettings& s, 
     uint32_t tiles_x = vk::ceil_div(uint32_t(cam.width), gpu::kTileSize);
     uint32_t tiles_y = vk::ceil_div(uint32_t(cam.height), gpu::kTileSize);
     f.size = glm::uvec4(cam.width, cam.height, tiles_x, tiles_y);
-    f.scene = glm::uvec4(count, sh_floats, uint32_t(std::clamp(std::min(sh_degree, s.max_sh_degree), 0, 3)),
+    f.scene = glm::uvec4(count, sh_words, uint32_t(std::clamp(std::min(sh_degree, s.max_sh_degree), 0, 3)),
                          s.antialiased ? 1u : 0u);
     f.capacity = glm::uvec4(capacity, group_limit, palette_size, 0);
     return f;
@@ -168,9 +168,9 @@ bool Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, co
     for (int tries = 0;; ++tries) {
         keys_.ensure(uint64_t(capacity_) * 4);
         values_.ensure(uint64_t(capacity_) * 4);
-        auto params = frame_params(camera, settings, n, scene.sh_floats(), scene.sh_degree(), capacity_, group_limit,
+        auto params = frame_params(camera, settings, n, scene.sh_words(), scene.sh_degree(), capacity_, group_limit,
                                    palette_size);
-        params.capacity.w = flags;
+        params.capacity.w = flags | (scene.half_sh() ? gpu::kFrameHalfSh : 0u);
         cmd_.update(frame_, &params, sizeof(params));
         if (style && slab) {
             // The slab's labels, gathered from the scene's by the slab's ids.

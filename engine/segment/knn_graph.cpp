@@ -103,7 +103,7 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     rows_.ensure(uint64_t(n + 1) * 4);
     degree_.ensure(uint64_t(n) * 4);
 
-    gpu::GraphNodesPush nodes_push{{n, scene.sh_floats(), 0, 0}};
+    gpu::GraphNodesPush nodes_push{{n, scene.sh_words(), scene.half_sh() ? 1u : 0u, 0}};
     gpu::GraphGridPush grid{glm::vec4(lo, 1.0f / cell_), glm::uvec4(dims, o.shells), glm::uvec4(bits.x, bits.y, n, k)};
     gpu::GraphWeightsPush wpush{glm::vec4(o.colour, o.normal, o.distance, o.opacity), {n, k, 0, 0}};
     gpu::GraphEdgesPush epush{{n, k, uint32_t(entries), 0}};
@@ -126,7 +126,7 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
             const uint32_t m = std::min(chunk, n - off);
             ids.assign(domain.begin() + off, domain.begin() + off + m);
             slab_->load(scene, ids);
-            const gpu::GraphNodesPush push{{m, scene.sh_floats(), 0, 0}};
+            const gpu::GraphNodesPush push{{m, scene.sh_words(), scene.half_sh() ? 1u : 0u, 0}};
             cmd_.dispatch("segment/graph_nodes",
                           {slab_->means, slab_->shapes, slab_->sh, domain_buf_, vk::BufferRange(pos_, off * 16ull, m * 16ull),
                            vk::BufferRange(colour_, off * 16ull, m * 16ull), vk::BufferRange(normal_, off * 16ull, m * 16ull)},

@@ -20,6 +20,11 @@ layout(std430, binding = 8) writeonly buffer Order { uint order[]; };
 layout(std430, binding = 9) readonly buffer Labels { int labels[]; };      // read only with a style
 layout(std430, binding = 10) readonly buffer Palette { vec4 palette[]; };  // rgb, a: tint weight, < 0 hides
 
+// Value j of a Gaussian's SH run starting at word `base`: a float, or half j % 2 of word j / 2.
+float sh_value(uint base, bool half_sh, uint j) {
+    return half_sh ? unpackHalf2x16(floatBitsToUint(sh[base + (j >> 1)]))[j & 1u] : sh[base + j];
+}
+
 void cull(uint i) {
     touched[i] = 0u;
     rects[i] = uvec2(0u);
@@ -92,7 +97,8 @@ void main() {
 
     vec3 dir = normalize(m.xyz - frame.camera_pos.xyz);
     uint base = i * frame.scene.y;
-#define SH_COEFF(k) vec3(sh[base + 3u * (k)], sh[base + 3u * (k) + 1u], sh[base + 3u * (k) + 2u])
+    bool half_sh = (frame.capacity.w & kFrameHalfSh) != 0u;
+#define SH_COEFF(k) vec3(sh_value(base, half_sh, 3u * (k)), sh_value(base, half_sh, 3u * (k) + 1u), sh_value(base, half_sh, 3u * (k) + 2u))
     vec3 color;
     PG_EVAL_SH(color, frame.scene.z, dir);
 #undef SH_COEFF

@@ -32,6 +32,8 @@ PG_CONST uint kNoGaussian = 0xFFFFFFFFu;
 PG_CONST uint kBlendResume = 1u;
 PG_CONST uint kBlendFinal = 2u;
 PG_CONST uint kBlendSlabIds = 4u;
+// Frame flag beside the blend flags: SH coefficients are fp16 pairs (packHalf2x16 words).
+PG_CONST uint kFrameHalfSh = 8u;
 PG_CONST uint kCarryWords = 12u;  // uints per pixel of carried state
 PG_CONST uint kLabelCarryWords = 20u;  // the same for the label rasterizers
 // A pixel's contributors that are further apart in depth than this x the sum of their
@@ -47,9 +49,9 @@ struct FrameParams {
     vec4 background;    // rgb, w: tau (opacity at which the tau-depth is taken)
     vec4 clip;          // x: near plane, y: tan(fov_x/2), z: tan(fov_y/2), w: unused
     uvec4 size;         // width, height, tiles_x, tiles_y
-    uvec4 scene;        // gaussian count, SH floats per Gaussian, SH degree used, antialiased
+    uvec4 scene;        // gaussian count, SH words per Gaussian (floats, or fp16 pairs), SH degree used, antialiased
     uvec4 capacity;     // x: key capacity, y: device group-count limit, z: style palette size (0: no style),
-                        // w: blend flags (kBlendResume | kBlendFinal | kBlendSlabIds)
+                        // w: flags (kBlendResume | kBlendFinal | kBlendSlabIds | kFrameHalfSh)
 };
 
 // One projected Gaussian, written by preprocess and read by emit_keys and blend.

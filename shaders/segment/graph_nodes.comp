@@ -24,7 +24,10 @@ void main() {
     vec4 m = means[g];
     pos[i] = vec4(m.xyz, 1.0 / (1.0 + exp(-m.w)));
     uint base = g * pc.size.y;
-    colour[i] = vec4(clamp(vec3(0.5) + kShC0 * vec3(sh[base], sh[base + 1u], sh[base + 2u]), 0.0, 1.0), 0.0);
+    vec3 dc = pc.size.z != 0u
+        ? vec3(unpackHalf2x16(floatBitsToUint(sh[base])), unpackHalf2x16(floatBitsToUint(sh[base + 1u])).x)
+        : vec3(sh[base], sh[base + 1u], sh[base + 2u]);
+    colour[i] = vec4(clamp(vec3(0.5) + kShC0 * dc, 0.0, 1.0), 0.0);
 
     vec3 s = shapes[2u * g].xyz;
     vec4 q = shapes[2u * g + 1u];

@@ -26,7 +26,7 @@ PG_GRAPH_CONST int kWalkFree = -1;           // a node that is no seed
 
 // graph_nodes: the domain's Gaussians gathered into node attributes.
 struct GraphNodesPush {
-    uvec4 size;  // x: nodes, y: SH floats per Gaussian
+    uvec4 size;  // x: nodes, y: SH words per Gaussian, z: 1 where the SH are fp16 pairs
 };
 
 // graph_cells, graph_knn: a uniform grid of cell side 1 / origin.w over the robust bounds.

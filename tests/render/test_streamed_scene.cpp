@@ -171,3 +171,37 @@ TEST_CASE("a memory cap that cannot hold one slab is one clear error") {
     CHECK(s.streamed());
     CHECK(s.slab_capacity() == 5000);
 }
+
+TEST_CASE("fp16 SH render within 5e-3 of float SH, and stream exactly like their resident frame") {
+    const auto scene = ref::random_scene(27, 9000, 3);
+    auto& ctx = test::gpu();
+    render::SceneBudget half;
+    half.half_sh = true;
+    render::SceneBudget half_streamed;
+    half_streamed.max_binding_bytes = 4096 * 96;  // the fp16 SH are the widest array: 24 words
+    half_streamed.half_sh = true;
+    render::GpuScene full(ctx, scene.cloud), compact(ctx, scene.cloud, half), streamed(ctx, scene.cloud, half_streamed);
+    CHECK(compact.sh_words() == 24);
+    CHECK(compact.sh.size() == full.sh.size() / 2);
+    REQUIRE(streamed.streamed());
+    render::Renderer r(ctx);
+    for (const auto& cam : scene.cameras) {
+        r.render(full, cam, {});
+        const auto a = r.read();
+        r.render(compact, cam, {});
+        const auto b = r.read();
+        r.render(streamed, cam, {});
+        const auto c = r.read();
+        double sum = 0;
+        float worst = 0;
+        for (size_t i = 0; i < a.rgba.size(); ++i) {
+            const float e = std::abs(a.rgba[i] - b.rgba[i]);
+            worst = std::max(worst, e);
+            sum += e;
+        }
+        CHECK(worst <= 5e-3f);
+        CHECK(sum / double(a.rgba.size()) <= 5e-4);
+        CHECK(a.tau_id == b.tau_id);  // geometry is untouched
+        CHECK(diff(b, c).max_rgba <= 1e-6f);
+    }
+}
