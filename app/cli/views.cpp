@@ -2,6 +2,7 @@
 #include <sstream>
 
 #include "app/cli/commands.h"
+#include "app/common/memory_arg.h"
 #include "dataset/error.h"
 
 namespace pg::app {
@@ -19,21 +20,7 @@ void add_memory_option(CLI::App& cmd, DeviceOptions& opt) {
                  "slab), colours within about 1e-3");
 }
 
-render::SceneBudget scene_budget(const DeviceOptions& opt) {
-    render::SceneBudget b;
-    b.half_sh = opt.half_sh;
-    if (opt.max_device_memory.empty()) return b;
-    const std::string& s = opt.max_device_memory;
-    double value = 0;
-    auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
-    std::string unit(ptr, s.data() + s.size());
-    double scale = unit.empty() || unit == "B" ? 1 : unit == "K" || unit == "KiB" ? 1024.0
-                 : unit == "M" || unit == "MiB" ? 1024.0 * 1024 : unit == "G" || unit == "GiB" ? 1024.0 * 1024 * 1024 : 0;
-    if (ec != std::errc() || scale == 0 || !(value > 0) || value * scale > 1e15)
-        throw data::InputError("--max-device-memory", "expected a size such as 512M or 2G, got '" + s + "'");
-    b.max_device_bytes = uint64_t(value * scale);
-    return b;
-}
+render::SceneBudget scene_budget(const DeviceOptions& opt) { return scene_budget(opt.max_device_memory, opt.half_sh); }
 
 render::GpuScene upload_scene(vk::Context& ctx, const data::GaussianCloud& cloud, const DeviceOptions& opt) {
     const render::SceneBudget budget = scene_budget(opt);

@@ -58,9 +58,10 @@ FramePicture FrameEngine::render(const FrameRequest& rq) {
         mo.render = rq.settings;
         const auto before = masks_->stage_ms();
         // Hidden Gaussians leave the frame's tile lists; the mask, as exported, sees every Gaussian, so
-        // it then needs a render of its own. Tints alone bin the same: the frame's lists serve.
+        // it then needs a render of its own. Tints alone bin the same: the frame's lists serve, unless
+        // the scene is streamed (only the last slab's lists are left; the mask is rasterized per slab).
         const bool hides = std::any_of(rq.palette.begin(), rq.palette.end(), [](const glm::vec4& p) { return p.a < 0; });
-        mask = hides ? &masks_->label_image(rq.camera, mo) : &masks_->label_image(renderer_, mo);
+        mask = hides || scene_.streamed() ? &masks_->label_image(rq.camera, mo) : &masks_->label_image(renderer_, mo);
         for (auto& [name, ms] : masks_->stage_ms()) out.mask_ms += ms - (before.count(name) ? before.at(name) : 0.0);
         out.mask = true;
     }

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "app/common/memory_arg.h"
 #include "app/viewer/viewer.h"
 
 int main(int argc, char** argv) {
@@ -23,6 +24,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--prompts", o.prompts, "Start from a prompts.json (a segment input or an earlier export)");
     app.add_option("--out", o.out, "Export folder (default: SCENE-segmentation)");
+    app.add_option("--max-device-memory", o.max_device_memory,
+                   "Device memory the scene may use (e.g. 512M, 2G); past it, or past the device's largest binding, the "
+                   "scene is streamed in depth slabs (slower frames)");
+    app.add_flag("--half-sh", o.half_sh, "Keep SH coefficients on the device as fp16 (half their memory)");
     app.add_option("--device", o.device, "Vulkan device (substring of its name; default: PG_DEVICE, else the best)");
     app.add_option("--size", [&o](const std::vector<std::string>& v) {
         return std::sscanf(v[0].c_str(), "%dx%d", &o.width, &o.height) == 2 && o.width >= 400 && o.height >= 300;
@@ -33,6 +38,7 @@ int main(int argc, char** argv) {
     app.add_option("--screenshot", o.screenshot, "Save the window as PNG once everything has settled, then quit");
     CLI11_PARSE(app, argc, argv);
     try {
+        pg::app::scene_budget(o.max_device_memory, o.half_sh);  // a bad size fails before the window opens
         pg::viewer::Viewer viewer(o);
         return viewer.run();
     } catch (const std::exception& e) {

@@ -1,5 +1,7 @@
 #include "app/viewer/viewer.h"
 
+#include "app/common/memory_arg.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -64,7 +66,7 @@ Viewer::Viewer(const ViewerOptions& options) : options_(options) {
     window_ = std::make_unique<Window>("PointGauss - " + fs::path(options.scene).filename().string(), options.width,
                                        options.height);
     ctx_ = window_->make_context(options.device);
-    gpu_scene_ = std::make_unique<render::GpuScene>(*ctx_, scene_.cloud);
+    gpu_scene_ = std::make_unique<render::GpuScene>(*ctx_, scene_.cloud, app::scene_budget(options.max_device_memory, options.half_sh));
     int fw, fh;
     window_->framebuffer_size(fw, fh);
     presenter_ = std::make_unique<Presenter>(*ctx_, window_->surface(), fw, fh);

@@ -25,6 +25,8 @@ class ScriptRunner;
 
 struct ViewerOptions {
     std::string scene, cameras, model, decoder, up = "auto", device, script, screenshot, out, prompts, lift = "surface";
+    std::string max_device_memory;  // a scene past it (or past the device's largest binding) is streamed
+    bool half_sh = false;
     int width = 1400, height = 860;
     double render_scale = 0;  // 0: 1 on a GPU, 0.5 on a CPU device
 };

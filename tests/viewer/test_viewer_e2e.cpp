@@ -283,6 +283,27 @@ TEST_CASE("the real guitar scene opens, gets an orbit, and a click outlines the 
     CHECK(std::count(labels.begin(), labels.end(), 1) > 1000);
 }
 
+TEST_CASE("a streamed scene in the viewer labels and outlines like the resident one", "[viewer]") {
+    // --max-device-memory 6M puts the sample's 54k Gaussians in slabs of about 20k: the picture,
+    // the clicks' lifts and the masks all go slab by slab. The labels must be the resident run's.
+    const fs::path dir = pg::test::scratch("viewer-streamed");
+    const fs::path prompts = kScene / "prompts.json";
+    std::vector<std::vector<int32_t>> labels;
+    for (const std::string memory : {"", " --max-device-memory 6M"}) {
+        const fs::path exported = dir / (memory.empty() ? "resident" : "streamed");
+        fs::remove_all(exported);
+        auto script = pg::test::write_script(dir, json::array({{{"export", {{"folder", exported.string()}, {"masks", false}}}}}));
+        Run r = pg::test::run_viewer(viewer_args(script, "--decoder graph --prompts " + prompts.string() + memory +
+                                                             " --screenshot " + (exported.string() + ".png")));
+        INFO(r.out);
+        REQUIRE(r.code == 0);
+        labels.push_back(pg::data::eval::read_gaussian_labels(exported / "scene.ply", "instance"));
+        CHECK(fs::exists(exported.string() + ".png"));
+    }
+    CHECK(std::set<int32_t>(labels[1].begin(), labels[1].end()).size() == 11);
+    CHECK(labels[0] == labels[1]);
+}
+
 TEST_CASE("the viewer starts from a prompts.json and labels every Gaussian as segment does", "[viewer]") {
     const fs::path dir = pg::test::scratch("viewer-prompts");
     const fs::path prompts = kScene / "prompts.json";
