@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
-#include "app/cli/progress.h"
+#include "app/common/progress.h"
 #include "dataset/error.h"
 #include "dataset/formats/camera_io.h"
 #include "dataset/formats/scene_io.h"
@@ -31,7 +31,7 @@ void run_bench_render(const BenchRenderArgs& a) {
     if (a.frames < 1) throw data::InputError("--frames", "must be at least 1");
     if (a.warmup < 0) throw data::InputError("--warmup", "must not be negative");
     auto t_load = std::chrono::steady_clock::now();
-    auto cloud = data::load_scene(a.scene);
+    auto cloud = load_scene_shown(a.scene);
     auto cameras = data::load_cameras(a.cameras);
     auto views = select_views(a.views, cameras);
     vk::ContextOptions co;

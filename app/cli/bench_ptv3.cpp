@@ -16,7 +16,7 @@
 #include "app/cli/commands.h"
 #include "app/cli/pass_families.h"
 #include "app/cli/point_file.h"
-#include "app/cli/progress.h"
+#include "app/common/progress.h"
 #include "app/cli/synthetic_crop.h"
 #include "dataset/error.h"
 #include "dataset/random.h"

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
+#include "app/common/progress.h"
 #include "dataset/error.h"
 #include "dataset/formats/camera_io.h"
 #include "dataset/formats/scene_io.h"
@@ -33,7 +34,7 @@ struct BenchSegmentArgs {
 void run_bench_segment(const BenchSegmentArgs& a) {
     scene_budget(a.device);  // a bad --max-device-memory fails before anything loads
     if (a.repeats < 1) throw data::InputError("--repeats", "must be at least 1");
-    auto cloud = data::load_scene(a.scene);
+    auto cloud = load_scene_shown(a.scene);
     auto cameras = data::load_cameras(a.cameras);
     auto prompts = data::read_prompts(a.prompts);
     // One click of the first object: the interactive unit of work; with a graph decoder the

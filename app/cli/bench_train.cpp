@@ -11,7 +11,7 @@
 
 #include "app/cli/commands.h"
 #include "app/cli/pass_families.h"
-#include "app/cli/progress.h"
+#include "app/common/progress.h"
 #include "app/cli/synthetic_crop.h"
 #include "app/common/ptv3_decoder.h"
 #include "dataset/error.h"

@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
-#include "app/cli/progress.h"
+#include "app/common/progress.h"
 #include "app/common/ptv3_decoder.h"
 #include "app/common/up_arg.h"
 #include "dataset/atomic_file.h"

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
-#include "app/cli/progress.h"
+#include "app/common/progress.h"
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
 #include "dataset/formats/camera_io.h"
@@ -72,7 +72,7 @@ void run_render(const RenderArgs& a) {
     if (!(a.tau > 0.0f && a.tau < 1.0f)) throw data::InputError("--tau", "must be in (0, 1)");
     auto outputs = parse_outputs(a.outputs);
     glm::vec3 background = parse_colour(a.background);
-    auto cloud = data::load_scene(a.scene);
+    auto cloud = load_scene_shown(a.scene);
     auto cameras = data::load_cameras(a.cameras);
     auto views = select_views(a.views, cameras);
 

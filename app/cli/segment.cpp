@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
-#include "app/cli/progress.h"
+#include "app/common/progress.h"
 #include "app/common/ptv3_decoder.h"
 #include "app/common/up_arg.h"
 #include "dataset/atomic_file.h"
@@ -85,7 +85,7 @@ void run_segment(const SegmentArgs& args) {
     if (network && !ground_truth && !fs::exists(a.model))
         throw data::InputError("--model", "'" + a.model + "' is neither ground-truth nor an existing model file");
     auto mode = seg::parse_label_mode(a.mode);
-    auto cloud = data::load_scene(a.scene);
+    auto cloud = load_scene_shown(a.scene);
     auto cameras = data::load_cameras(a.cameras);
     auto prompts = data::read_prompts(a.prompts);
     std::vector<size_t> views;

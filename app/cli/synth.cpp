@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
-#include "app/cli/progress.h"
+#include "app/common/progress.h"
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
 #include "dataset/report/palette.h"

@@ -1,6 +1,7 @@
 #include "app/viewer/viewer.h"
 
 #include "app/common/memory_arg.h"
+#include "app/common/progress.h"
 
 #include <algorithm>
 #include <cmath>
@@ -99,7 +100,7 @@ Viewer::~Viewer() {
 
 void Viewer::load(const ViewerOptions& o) {
     scene_.scene_path = o.scene;
-    scene_.cloud = data::load_scene(o.scene);
+    scene_.cloud = app::load_scene_shown(o.scene);
     if (scene_.cloud.size() == 0) throw data::InputError(o.scene, "holds no Gaussians");
     scene_.cameras_path = o.cameras.empty() ? cameras_beside(o.scene) : o.cameras;
     if (!scene_.cameras_path.empty()) scene_.cameras = data::load_cameras(scene_.cameras_path);

@@ -351,7 +351,8 @@ int sh_degree_for_rest_count(size_t n) {
     return -1;
 }
 
-GaussianCloud read_inria(const Header& h, BodyReader& body, const Element& vertex, const std::string& where) {
+GaussianCloud read_inria(const Header& h, BodyReader& body, const Element& vertex, const std::string& where,
+                         const LoadProgress& progress) {
     auto fail = [&](const std::string& reason) -> void { throw InputError(where, reason); };
     const size_t n_props = vertex.properties.size();
     std::vector<Target> targets(n_props);
@@ -428,6 +429,7 @@ GaussianCloud read_inria(const Header& h, BodyReader& body, const Element& verte
     cloud.resize(static_cast<size_t>(vertex.count));
     float* sh = cloud.sh.data();
     body.read_rows(vertex, [&](uint64_t i, const double* v) {
+        if (progress && (i & 0xFFFFF) == 0) progress(double(i) / double(vertex.count));
         for (size_t p = 0; p < n_props; ++p) {
             const Target t = targets[p];
             switch (t.slot) {
@@ -590,7 +592,7 @@ GaussianCloud read_compressed(const Header& h, BodyReader& body, const std::stri
 
 }  // namespace
 
-GaussianCloud read_ply(const std::filesystem::path& path) {
+GaussianCloud read_ply(const std::filesystem::path& path, const LoadProgress& progress) {
     const std::string where = path.string();
     const std::vector<char> bytes = read_file(path);
     const Header h = ply::parse_header(bytes.data(), bytes.size(), where);
@@ -604,9 +606,10 @@ GaussianCloud read_ply(const std::filesystem::path& path) {
         cloud = read_compressed(h, body, where);
     } else {
         for (int e = 0; e < vi; ++e) body.skip(h.elements[e]);
-        cloud = read_inria(h, body, vertex, where);
+        cloud = read_inria(h, body, vertex, where, progress);
     }
     validate_cloud(cloud, where);
+    if (progress) progress(1.0);
     return cloud;
 }
 

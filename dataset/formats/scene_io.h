@@ -2,16 +2,22 @@
 // Reading and writing 3DGS scenes. Every reader throws InputError naming the file and the
 // problem on malformed input; none crashes or reads past the data.
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "dataset/gaussian_cloud.h"
 
 namespace pg::data {
 
-// Picks the reader from the file's content (PLY header, gzip magic) and extension.
-GaussianCloud load_scene(const std::filesystem::path& path);
+// Called with the fraction of the Gaussians read so far, for a progress line (readers that
+// report: binary and ASCII INRIA / 2DGS PLY, every 2^20 Gaussians).
+using LoadProgress = std::function<void(double fraction)>;
 
-GaussianCloud read_ply(const std::filesystem::path& path);        // INRIA, 2DGS, PlayCanvas compressed
+// Picks the reader from the file's content (PLY header, gzip magic) and extension.
+GaussianCloud load_scene(const std::filesystem::path& path, const LoadProgress& progress = {});
+
+GaussianCloud read_ply(const std::filesystem::path& path,         // INRIA, 2DGS, PlayCanvas compressed
+                       const LoadProgress& progress = {});
 GaussianCloud read_splat(const std::filesystem::path& path);      // antimatter15 .splat
 GaussianCloud read_spz(const std::filesystem::path& path);        // Niantic .spz (gzip)
 

@@ -33,7 +33,7 @@ void validate_cloud(const GaussianCloud& cloud, const std::string& where) {
     }
 }
 
-GaussianCloud load_scene(const fs::path& path) {
+GaussianCloud load_scene(const fs::path& path, const LoadProgress& progress) {
     const std::string where = path.string();
     std::error_code ec;
     if (fs::is_directory(path, ec)) throw InputError(where, "is a directory, expected a scene file");
@@ -49,13 +49,13 @@ GaussianCloud load_scene(const fs::path& path) {
     }
     if (got == 0) throw InputError(where, "empty file");
     if (got >= 4 && magic[0] == 'p' && magic[1] == 'l' && magic[2] == 'y' && (magic[3] == '\n' || magic[3] == '\r'))
-        return read_ply(path);
+        return read_ply(path, progress);
     if (got >= 2 && magic[0] == 0x1f && magic[1] == 0x8b) return read_spz(path);
     if (got >= 4 && magic[0] == 'N' && magic[1] == 'G' && magic[2] == 'S' && magic[3] == 'P') return read_spz(path);
 
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-    if (ext == ".ply") return read_ply(path);  // reports what is wrong with the header
+    if (ext == ".ply") return read_ply(path, progress);  // reports what is wrong with the header
     if (ext == ".splat") return read_splat(path);
     if (ext == ".spz") return read_spz(path);
     throw InputError(where, "unknown scene format" + (ext.empty() ? std::string() : " '" + ext + "'") +

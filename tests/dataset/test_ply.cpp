@@ -541,3 +541,15 @@ TEST_CASE("ply: the real guitar scene loads and writes back byte-exact") {
     write_ply(c, out);
     CHECK(read_bytes(out) == read_bytes(guitar));
 }
+
+TEST_CASE("ply: loading reports its progress from 0 to 1, every 2^20 Gaussians") {
+    const auto path = pg::test::source_dir() / "assets/sample/desk_000/scene.ply";
+    std::vector<double> seen;
+    const auto cloud = pg::data::load_scene(path, [&](double f) { seen.push_back(f); });
+    REQUIRE(cloud.size() > 0);
+    REQUIRE(seen.size() == (cloud.size() + (1u << 20) - 1) / (1u << 20) + 1);
+    CHECK(seen.front() == 0.0);
+    CHECK(seen.back() == 1.0);
+    CHECK(std::is_sorted(seen.begin(), seen.end()));
+    CHECK(pg::data::load_scene(path).mean == cloud.mean);  // the same scene without a callback
+}
