@@ -81,9 +81,8 @@ GpuScene::GpuScene(vk::Context& ctx, const data::GaussianCloud& cloud, const Sce
     if (streamed_) return;
     std::vector<glm::vec4> m(count_), s(2 * size_t(count_));
     for (uint32_t i = 0; i < count_; ++i) {
-        m[i] = glm::vec4(cloud.mean[i], cloud.opacity_logit[i]);
-        s[2 * i] = glm::vec4(cloud.log_scale[i], 0.0f);
-        s[2 * i + 1] = cloud.rotation[i];
+        m[i] = device_mean(cloud, i);
+        device_shape(cloud, i, &s[2 * size_t(i)]);
     }
     means = vk::upload_vector(ctx, m, "means");
     shapes = vk::upload_vector(ctx, s, "shapes");
@@ -120,9 +119,8 @@ void SceneSlab::load(const GpuScene& scene, const std::vector<uint32_t>& ids) {
     uint32_t* c = direct ? sh.as<uint32_t>() : host_c.data();
     for (uint32_t k = 0; k < n; ++k) {
         const uint32_t i = ids[k];
-        m[k] = glm::vec4(cloud.mean[i], cloud.opacity_logit[i]);
-        s[2 * size_t(k)] = glm::vec4(cloud.log_scale[i], 0.0f);
-        s[2 * size_t(k) + 1] = cloud.rotation[i];
+        m[k] = device_mean(cloud, i);
+        device_shape(cloud, i, &s[2 * size_t(k)]);
         put_sh(&cloud.sh[size_t(i) * shf], shf, half, &c[size_t(k) * words]);
     }
     if (!direct && n) {

@@ -1,6 +1,7 @@
 #pragma once
 // A Gaussian cloud on the device in the layout the shaders read: uploaded once when it fits,
 // else streamed in slabs (a few hundred thousand Gaussians at a time) from the host copy.
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -22,6 +23,14 @@ struct SceneBudget {
 // Device bytes per Gaussian of one frame: the scene's arrays, the renderer's and its tile keys.
 uint64_t frame_bytes_per_gaussian(uint32_t sh_words);
 
+// Gaussian i in the layout of GpuScene's `means` (xyz, opacity logit) and `shapes` (log-scale,
+// quaternion): the one place that layout is written on the host.
+inline glm::vec4 device_mean(const data::GaussianCloud& cloud, size_t i) { return glm::vec4(cloud.mean[i], cloud.opacity_logit[i]); }
+inline void device_shape(const data::GaussianCloud& cloud, size_t i, glm::vec4* two) {
+    two[0] = glm::vec4(cloud.log_scale[i], 0.0f);
+    two[1] = cloud.rotation[i];
+}
+
 class GpuScene {
 public:
     // `cloud` must outlive the scene when it is streamed (slabs are gathered from it).
@@ -38,6 +47,9 @@ public:
     bool streamed() const { return streamed_; }
     uint32_t slab_capacity() const { return capacity_; }
     uint64_t binding_limit() const { return binding_; }  // bytes one binding may hold (the budget's, if lower)
+    // Gaussians a pass over a streamed scene reads at a time: the slab capacity rounded down to a
+    // multiple of 256, so windows into per-Gaussian outputs stay at aligned offsets.
+    uint32_t chunk() const { return std::max(256u, capacity_ & ~255u); }
     const data::GaussianCloud& cloud() const { return *cloud_; }
 
     vk::Buffer means;   // vec4: xyz, opacity logit

@@ -114,7 +114,7 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     for (auto& c : carry_) c.ensure(pixels * gpu::kCarryWords * 4);
     const uint32_t capacity = scene.slab_capacity();
     slab_ids_.ensure(uint64_t(capacity) * 4);
-    std::vector<uint32_t> ids;
+    std::vector<uint32_t>& ids = slab_host_ids_;  // kept: pick maps the last slab's ids back
     size_t room = capacity;  // halved while a slab's tile keys would not fit a binding
     for (size_t begin = 0; begin < order.size();) {
         size_t end = std::min(order.size(), begin + room);
@@ -123,7 +123,6 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
         ids.resize(end - begin);
         for (size_t k = begin; k < end; ++k) ids[k - begin] = order[k].second;
         slab_.load(scene, ids);
-        slab_host_ids_ = ids;
         vk::upload(ctx_, slab_ids_, ids.data(), ids.size() * 4);
         uint32_t flags = gpu::kBlendSlabIds;
         if (begin > 0) flags |= gpu::kBlendResume;

@@ -115,10 +115,9 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
                       nodes_push, graph_groups(n));
     } else {
         // The domain's Gaussians a slab at a time (each slab must wait for the last to be read);
-        // slab node i is slab Gaussian i. Chunks of a multiple of 256 nodes keep the output
-        // windows at aligned offsets.
+        // slab node i is slab Gaussian i.
         if (!slab_) slab_ = std::make_unique<render::SceneSlab>(ctx_, "graph slab");
-        const uint32_t chunk = std::max(256u, scene.slab_capacity() & ~255u);
+        const uint32_t chunk = scene.chunk();
         std::vector<uint32_t> iota(std::min(chunk, n)), ids;
         for (uint32_t i = 0; i < iota.size(); ++i) iota[i] = i;
         vk::upload(ctx_, domain_buf_, iota.data(), iota.size() * 4);

@@ -105,16 +105,15 @@ EncodedPrompt PromptEncoder::encode(const render::GpuScene& scene, const std::ve
         cmd_.dispatch("segment/click_weights", {scene.means, anchors_, weights_, flags_}, push,
                       vk::ceil_div(n, gpu::kPromptGroup));
     } else {
-        // A streamed scene's centres a chunk at a time (chunks of 256k keep the output windows
-        // aligned); each chunk waits for the last to be read.
-        const uint32_t chunk = std::max(256u, scene.slab_capacity() & ~255u);
+        // A streamed scene's centres a chunk at a time; each chunk waits for the last to be read.
+        const uint32_t chunk = scene.chunk();
         means_window_.ensure(uint64_t(std::min(chunk, n)) * 16);
         std::vector<glm::vec4> m;
         const auto& cloud = scene.cloud();
         for (uint32_t off = 0; off < n; off += chunk) {
             const uint32_t c = std::min(chunk, n - off);
             m.resize(c);
-            for (uint32_t i = 0; i < c; ++i) m[i] = glm::vec4(cloud.mean[off + i], cloud.opacity_logit[off + i]);
+            for (uint32_t i = 0; i < c; ++i) m[i] = render::device_mean(cloud, off + i);
             vk::upload(ctx_, means_window_, m.data(), uint64_t(c) * 16);
             gpu::ClickWeightsPush part = push;
             part.count = c;
