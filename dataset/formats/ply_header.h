@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -64,6 +65,9 @@ public:
     // Throws unless the next element is list-free and its rows can fit in the remaining
     // data; call it before allocating for the element's count.
     void check_fits(const Element& e) const;
+    // Called now and then with the offset below which the reader is done with the data (a
+    // mapped file gives those pages back).
+    void on_consumed(std::function<void(size_t)> fn) { consumed_ = std::move(fn); }
 
 private:
     bool next_line(std::string_view& line);
@@ -75,6 +79,8 @@ private:
     size_t pos_;
     Encoding encoding_;
     std::string where_;
+    std::function<void(size_t)> consumed_;
+    static constexpr uint64_t kConsumedEvery = 1u << 16;  // rows between two on_consumed calls
 };
 
 // One binary scalar at p as double; Swap reverses its bytes (file and host endianness differ).
@@ -120,6 +126,7 @@ void BodyReader::read_rows(const Element& e, Fn&& fn) {
                      std::to_string(e.count) + " rows");
             parse_ascii_row(e, row, line, values.data());
             fn(row, static_cast<const double*>(values.data()));
+            if (consumed_ && (row + 1) % kConsumedEvery == 0) consumed_(pos_);
         }
         return;
     }
@@ -141,6 +148,7 @@ void BodyReader::read_rows(const Element& e, Fn&& fn) {
             for (size_t p = 0; p < n_props; ++p)
                 values[p] = decode_scalar<Swap>(base + columns[p].offset, columns[p].type);
             fn(row, static_cast<const double*>(values.data()));
+            if (consumed_ && (row + 1) % kConsumedEvery == 0) consumed_(size_t(base + stride - data_));
         }
     };
     if (swap) decode_all.template operator()<true>();

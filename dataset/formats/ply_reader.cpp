@@ -8,6 +8,7 @@
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
 #include "dataset/formats/ply_header.h"
+#include "dataset/mapped_file.h"
 #include "dataset/formats/scene_io.h"
 
 namespace pg::data {
@@ -594,12 +595,13 @@ GaussianCloud read_compressed(const Header& h, BodyReader& body, const std::stri
 
 GaussianCloud read_ply(const std::filesystem::path& path, const LoadProgress& progress) {
     const std::string where = path.string();
-    const std::vector<char> bytes = read_file(path);
-    const Header h = ply::parse_header(bytes.data(), bytes.size(), where);
+    MappedFile file(path);
+    const Header h = ply::parse_header(file.data(), file.size(), where);
     const int vi = h.find("vertex");
     if (vi < 0) throw InputError(where, "PLY has no 'vertex' element");
     const Element& vertex = h.elements[vi];
-    BodyReader body(bytes.data(), bytes.size(), h, where);
+    BodyReader body(file.data(), file.size(), h, where);
+    body.on_consumed([&file](size_t upto) { file.release(upto); });
 
     GaussianCloud cloud;
     if (h.find("chunk") >= 0 && vertex.find("packed_position") >= 0) {
