@@ -6,9 +6,12 @@
 
 namespace pg::viewer {
 
-FrameEngine::FrameEngine(vk::Context& ctx, const render::GpuScene& scene)
+FrameEngine::FrameEngine(vk::Context& ctx, const render::GpuScene& scene, const render::GpuScene* preview,
+                         const std::vector<uint32_t>* preview_ids)
     : ctx_(ctx),
       scene_(scene),
+      preview_(preview && preview_ids ? preview : nullptr),
+      preview_ids_(preview_ids),
       renderer_(ctx),
       cmd_(ctx),
       passes_(ctx),
@@ -32,6 +35,7 @@ FramePicture FrameEngine::render(const FrameRequest& rq) {
     out.id = rq.id;
     out.camera = rq.camera;
     const bool labelled = rq.labels && rq.labels->size() == scene_.size();
+    if (rq.preview && preview_) return render_preview(rq, labelled, t0);
     if (labelled && rq.labels_version != labels_version_) {
         labels_ = vk::upload_vector(ctx_, *rq.labels, "viewer labels");
         // One upload for both: object ids are >= 0, so the style's int32 and the mask's uint32 agree.
@@ -74,6 +78,42 @@ FramePicture FrameEngine::render(const FrameRequest& rq) {
     out.overlay_ms = cmd_.total_ms();
     out.rgba = std::shared_ptr<const vk::Buffer>(pixels, &pixels->rgba);
     if (labelled) out.object = std::shared_ptr<const vk::Buffer>(pixels, &pixels->object);
+    out.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+}
+
+FramePicture FrameEngine::render_preview(const FrameRequest& rq, bool labelled, std::chrono::steady_clock::time_point t0) {
+    FramePicture out;
+    out.id = rq.id;
+    out.camera = rq.camera;
+    out.preview = true;
+    render::RenderStyle style;
+    if (labelled && !rq.palette.empty()) {
+        if (rq.labels_version != preview_labels_version_) {
+            std::vector<int32_t> sub(preview_ids_->size());
+            for (size_t i = 0; i < sub.size(); ++i) sub[i] = (*rq.labels)[(*preview_ids_)[i]];
+            preview_labels_ = vk::upload_vector(ctx_, sub, "viewer preview labels");
+            preview_labels_version_ = rq.labels_version;
+        }
+        if (rq.palette != palette_uploaded_) {
+            palette_.ensure(rq.palette.size() * sizeof(glm::vec4));
+            vk::upload(ctx_, palette_, rq.palette.data(), rq.palette.size() * sizeof(glm::vec4));
+            palette_uploaded_ = rq.palette;
+        }
+        style.labels = &preview_labels_;
+        style.palette = &palette_;
+        style.palette_size = uint32_t(rq.palette.size());
+    }
+    renderer_.render(*preview_, rq.camera, rq.settings, style.labels ? &style : nullptr);
+    for (auto& t : renderer_.timings()) out.render_ms += t.ms;
+    auto pixels = free_pixels();
+    cmd_.begin_pass("overlay");
+    passes_.overlay(cmd_, renderer_.image_buffer(), nullptr, style.palette, style.palette_size, renderer_.width(),
+                    renderer_.height(), pixels->rgba);
+    cmd_.end_pass();
+    cmd_.submit_and_wait();
+    out.overlay_ms = cmd_.total_ms();
+    out.rgba = std::shared_ptr<const vk::Buffer>(pixels, &pixels->rgba);
     out.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return out;
 }

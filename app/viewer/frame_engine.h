@@ -3,6 +3,7 @@
 // tints (hidden objects culled) and, when asked, the refined 2D mask of every visible object
 // outlined on top, exactly as the exported overlays draw it. The picture stays on the device:
 // the presenter copies it into the window's image.
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -24,6 +25,7 @@ struct FrameRequest {
     // Per object id: rgb and how strongly the Gaussians take it (0 none, < 0 hidden).
     std::vector<glm::vec4> palette;
     bool mask = false;  // outline the objects' 2D masks
+    bool preview = false;  // draw the scene's preview, if it has one (a moving camera)
     render::RenderSettings settings;
 };
 
@@ -35,13 +37,16 @@ struct FramePicture {
     std::shared_ptr<const vk::Buffer> object;  // int32 per pixel: the object whose Gaussian made it opaque,
                                                // 0 for none; null while nothing is labelled
     bool mask = false;
+    bool preview = false;       // drawn from the preview (no object ids then)
     double render_ms = 0, mask_ms = 0, overlay_ms = 0;  // GPU time of the splat render, mask and overlay passes
     double wall_ms = 0;
 };
 
 class FrameEngine {
 public:
-    FrameEngine(vk::Context& ctx, const render::GpuScene& scene);
+    // `preview` (may be null): what a request with `preview` set draws instead of the scene.
+    FrameEngine(vk::Context& ctx, const render::GpuScene& scene, const render::GpuScene* preview = nullptr,
+                const std::vector<uint32_t>* preview_ids = nullptr);
     FramePicture render(const FrameRequest& request);
 
 private:
@@ -49,14 +54,18 @@ private:
         vk::Buffer rgba, object;
     };
     std::shared_ptr<Pixels> free_pixels();
+    FramePicture render_preview(const FrameRequest& request, bool labelled, std::chrono::steady_clock::time_point t0);
 
     vk::Context& ctx_;
     const render::GpuScene& scene_;
+    const render::GpuScene* preview_;
+    const std::vector<uint32_t>* preview_ids_;  // the scene index of each preview Gaussian
     render::Renderer renderer_;
     vk::CommandList cmd_;
     seg::PicturePasses passes_;
     std::vector<std::shared_ptr<Pixels>> pixels_;
-    vk::Buffer labels_, palette_;
+    vk::Buffer labels_, palette_, preview_labels_;
+    uint64_t preview_labels_version_ = ~0ull;
     std::vector<glm::vec4> palette_uploaded_;  // what palette_ holds: an unchanged palette is not re-sent
     uint64_t labels_version_ = ~0ull;
     std::unique_ptr<seg::MaskViews> masks_;

@@ -179,7 +179,12 @@ void Viewer::draw_timings_panel() {
         ImGui::TextWrapped("%s (%s)", ctx_->info().name.c_str(), vk::device_type_name(ctx_->info().type).c_str());
         timing_row("window frame", frame_ms_);
         if (picture_valid_) {
-            ImGui::Text("picture %dx%d", picture_.camera.width, picture_.camera.height);
+            ImGui::Text("picture %dx%d%s", picture_.camera.width, picture_.camera.height,
+                        picture_.preview ? " (preview: 1 of every " : "");
+            if (picture_.preview && viewed_.preview) {
+                ImGui::SameLine(0, 0);
+                ImGui::Text("%u Gaussians)", viewed_.preview->stride);
+            }
             timing_row("splat render (GPU)", picture_.render_ms);
             if (picture_.mask) timing_row("2D mask (GPU)", picture_.mask_ms);
             timing_row("overlay (GPU)", picture_.overlay_ms);

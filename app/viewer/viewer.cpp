@@ -67,13 +67,14 @@ Viewer::Viewer(const ViewerOptions& options) : options_(options) {
     window_ = std::make_unique<Window>("PointGauss - " + fs::path(options.scene).filename().string(), options.width,
                                        options.height);
     ctx_ = window_->make_context(options.device);
-    gpu_scene_ = std::make_unique<render::GpuScene>(*ctx_, scene_.cloud, app::scene_budget(options.max_device_memory, options.half_sh));
+    viewed_ = upload_viewed_scene(*ctx_, scene_.cloud, app::scene_budget(options.max_device_memory, options.half_sh));
     int fw, fh;
     window_->framebuffer_size(fw, fh);
     presenter_ = std::make_unique<Presenter>(*ctx_, window_->surface(), fw, fh);
     imgui_ = std::make_unique<ImGuiLayer>(*ctx_, window_->handle(), *presenter_);
-    frame_engine_ = std::make_unique<FrameEngine>(*ctx_, *gpu_scene_);
-    job_engine_ = std::make_unique<JobEngine>(*ctx_, scene_, *gpu_scene_);
+    frame_engine_ = std::make_unique<FrameEngine>(*ctx_, *viewed_.scene, viewed_.preview_scene.get(),
+                                                  viewed_.preview ? &viewed_.preview->ids : nullptr);
+    job_engine_ = std::make_unique<JobEngine>(*ctx_, scene_, *viewed_.scene);
     inbox_.wake = [] { glfwPostEmptyEvent(); };
     frames_ = std::make_unique<Worker>(true);
     jobs_ = std::make_unique<Worker>(false);
@@ -93,7 +94,7 @@ Viewer::~Viewer() {
     frame_engine_.reset();
     imgui_.reset();
     presenter_.reset();
-    gpu_scene_.reset();
+    viewed_ = {};
     if (window_) window_->destroy_surface();
     ctx_.reset();
 }
@@ -418,6 +419,7 @@ FrameRequest Viewer::frame_request(bool still) const {
     rq.labels_version = session_.labels_version();
     rq.palette = palette();
     rq.mask = still && show_mask_ && rq.labels;
+    rq.preview = !still;
     return rq;
 }
 
@@ -428,9 +430,9 @@ void Viewer::request_frame() {
     FrameRequest rq = frame_request(still);
     const auto& c = rq.camera;
     char key[256];
-    std::snprintf(key, sizeof key, "%s %d %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %llu %d|", c.name.c_str(), c.width,
+    std::snprintf(key, sizeof key, "%s %d %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %llu %d %d|", c.name.c_str(), c.width,
                   c.height, c.fx, c.fy, c.cx, c.cy, c.t.x, c.t.y, c.t.z, (unsigned long long)rq.labels_version,
-                  int(rq.mask));
+                  int(rq.mask), int(rq.preview));
     std::string k = key;
     for (int i = 0; i < 9; ++i) k += std::to_string(c.R[i / 3][i % 3]) + ",";
     for (auto& p : rq.palette) k += std::to_string(p.r + 2 * p.g + 4 * p.b) + "/" + std::to_string(p.a) + ",";

@@ -17,6 +17,7 @@
 #include "app/viewer/presenter.h"
 #include "app/viewer/session.h"
 #include "app/viewer/window.h"
+#include "app/viewer/preview_scene.h"
 #include "app/viewer/worker.h"
 
 namespace pg::viewer {
@@ -89,7 +90,7 @@ private:
     SceneData scene_;
     std::unique_ptr<Window> window_;
     std::unique_ptr<vk::Context> ctx_;
-    std::unique_ptr<render::GpuScene> gpu_scene_;
+    ViewedScene viewed_;  // the scene on the device, and its preview for a moving camera (streamed scenes)
     std::unique_ptr<Presenter> presenter_;
     std::unique_ptr<ImGuiLayer> imgui_;
     std::unique_ptr<FrameEngine> frame_engine_;
