@@ -4,7 +4,9 @@
 #include "app/common/progress.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <thread>
 #include <cstdio>
 #include <filesystem>
 
@@ -63,15 +65,16 @@ Viewer::Viewer(const ViewerOptions& options) : options_(options) {
     if (!options.script.empty() || !options.screenshot.empty())
         script_ = std::make_unique<ScriptRunner>(options.script.empty() ? std::vector<Action>{} : read_script(options.script),
                                                  options.screenshot);
-    load(options);
+    const auto budget = app::scene_budget(options.max_device_memory, options.half_sh);  // a bad size fails first
     window_ = std::make_unique<Window>("PointGauss - " + fs::path(options.scene).filename().string(), options.width,
                                        options.height);
     ctx_ = window_->make_context(options.device);
-    viewed_ = upload_viewed_scene(*ctx_, scene_.cloud, app::scene_budget(options.max_device_memory, options.half_sh));
     int fw, fh;
     window_->framebuffer_size(fw, fh);
     presenter_ = std::make_unique<Presenter>(*ctx_, window_->surface(), fw, fh);
     imgui_ = std::make_unique<ImGuiLayer>(*ctx_, window_->handle(), *presenter_);
+    load_in_window(options);
+    viewed_ = upload_viewed_scene(*ctx_, scene_.cloud, budget);
     frame_engine_ = std::make_unique<FrameEngine>(*ctx_, *viewed_.scene, viewed_.preview_scene.get(),
                                                   viewed_.preview ? &viewed_.preview->ids : nullptr);
     job_engine_ = std::make_unique<JobEngine>(*ctx_, scene_, *viewed_.scene);
@@ -99,9 +102,49 @@ Viewer::~Viewer() {
     ctx_.reset();
 }
 
-void Viewer::load(const ViewerOptions& o) {
+void Viewer::load_in_window(const ViewerOptions& o) {
+    // The scene loads on a thread while the window shows how far it got (a 6 M-Gaussian PLY
+    // takes seconds), and the terminal line as before.
+    std::atomic<double> fraction{0.0};
+    std::atomic<bool> done{false};
+    std::exception_ptr error;
+    std::thread loader([&] {
+        try {
+            app::Progress line("loading " + o.scene, 100);
+            load(o, [&](double f) {
+                line.set(size_t(f * 100.0), "%");
+                fraction = f;
+                glfwPostEmptyEvent();
+            });
+        } catch (...) {
+            error = std::current_exception();
+        }
+        done = true;
+        glfwPostEmptyEvent();
+    });
+    while (!done) {
+        glfwWaitEventsTimeout(0.1);
+        int fw, fh;
+        window_->framebuffer_size(fw, fh);
+        imgui_->begin_frame();
+        const ImGuiViewport* vp = ImGui::GetMainViewport();
+        ImGui::SetNextWindowPos(ImVec2(vp->Pos.x + vp->Size.x * 0.5f, vp->Pos.y + vp->Size.y * 0.5f), ImGuiCond_Always,
+                                ImVec2(0.5f, 0.5f));
+        ImGui::SetNextWindowSize(ImVec2(std::min(480.0f, vp->Size.x * 0.8f), 0));
+        ImGui::Begin("Loading", nullptr, ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize);
+        ImGui::TextWrapped("%s", o.scene.c_str());
+        ImGui::ProgressBar(float(fraction.load()));
+        ImGui::End();
+        imgui_->end_frame();
+        presenter_->present(fw, fh, [&](VkCommandBuffer cmd) { imgui_->record(cmd); });
+    }
+    loader.join();
+    if (error) std::rethrow_exception(error);
+}
+
+void Viewer::load(const ViewerOptions& o, const data::LoadProgress& progress) {
     scene_.scene_path = o.scene;
-    scene_.cloud = app::load_scene_shown(o.scene);
+    scene_.cloud = data::load_scene(o.scene, progress);
     if (scene_.cloud.size() == 0) throw data::InputError(o.scene, "holds no Gaussians");
     scene_.cameras_path = o.cameras.empty() ? cameras_beside(o.scene) : o.cameras;
     if (!scene_.cameras_path.empty()) scene_.cameras = data::load_cameras(scene_.cameras_path);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/viewer/document.h"
+#include "dataset/formats/scene_io.h"
 #include "app/viewer/frame_engine.h"
 #include "app/viewer/imgui_layer.h"
 #include "app/viewer/job_engine.h"
@@ -70,7 +71,8 @@ private:
         std::atomic<bool> cancel{false}, running{false};
     };
 
-    void load(const ViewerOptions& options);
+    void load(const ViewerOptions& options, const data::LoadProgress& progress);
+    void load_in_window(const ViewerOptions& options);
     void load_prompts(const std::string& path);
     void update_segmentation();
     void request_frame();
