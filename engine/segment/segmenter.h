@@ -83,6 +83,7 @@ struct GraphReport {
     size_t unreached = 0, unreached_components = 0;  // Gaussians (and components) with no seed or prior: unlabelled
     GraphSolver solver = GraphSolver::Walk;
     uint32_t iterations = 0;     // the walk's conjugate-gradient iterations
+    uint32_t levels = 0;         // the walk's multigrid levels (0: Jacobi preconditioner)
     uint32_t rounds = 0;         // the forest's relaxation rounds
     double residual = 0, cell = 0, spacing = 0;
 };

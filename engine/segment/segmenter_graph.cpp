@@ -282,6 +282,8 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
 
     GraphReport report = graph_report(graph_, GraphSolver::Walk, pr.seed);
     report.iterations = solution.iterations;
+    report.levels = solution.levels;
+    if (solution.levels) result.stage_ms["graph hierarchy"] += solution.hierarchy_ms;  // part of "graph solve"
     report.residual = solution.residual;
     // A component of the graph with no seed, prior or coarse start has no answer (its system is
     // singular and keeps whatever it started from): it stays unlabelled and is counted.
