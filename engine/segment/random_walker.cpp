@@ -246,11 +246,13 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
         }
         cmd_.end_pass();
 
-        // Multigrid converges in a few tens of iterations: a long wait between checks would be
-        // a large share of the solve.
-        const uint32_t check_every = o.check_every ? o.check_every : multigrid ? 5 : 25;
-        uint32_t it = 0;
-        double residual = 0;
+        // Multigrid converges in a few tens of iterations: a fixed long wait between checks would
+        // overshoot by a large share of the solve, so (unless told) it checks after 5, then after
+        // as many as the rate seen so far says are left.
+        const bool predict = multigrid && o.check_every == 0;
+        uint32_t check_every = o.check_every ? o.check_every : multigrid ? 5 : 25;
+        uint32_t it = 0, last_it = 0;
+        double residual = 0, last = 0;
         for (;;) {
             cmd_.submit_and_wait();
             for (auto& t : cmd_.timings()) timings_.push_back(t);
@@ -259,6 +261,11 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
             for (auto& v : s)
                 residual = std::max(residual, v.value.w > 0 ? std::sqrt(std::max(0.0f, v.value.x) / v.value.w) : 0.0);
             if (residual <= o.tolerance || it >= o.max_iterations) break;
+            if (predict && it > last_it && residual < last) {
+                const double rate = std::log(residual / last) / double(it - last_it);
+                check_every = uint32_t(std::clamp(std::ceil(std::log(o.tolerance / residual) / rate), 1.0, 10.0));
+            }
+            last = residual, last_it = it;
             cmd_.begin_pass("walk iterations");
             for (uint32_t c = 0; c < check_every && it < o.max_iterations; ++c, ++it) {
                 cmd_.dispatch("segment/walk_apply", {rows, edge_columns_, edge_weights_, deg, seed_, gamma_, p_, ap_, partials_}, push[1],

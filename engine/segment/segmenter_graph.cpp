@@ -103,7 +103,7 @@ std::vector<float> Segmenter::coarse_start(const SegmentOptions& o, const std::v
     const uint32_t nodes = uint32_t(domain.size()), labels = fine.labels;
     std::vector<uint32_t> members, coarse_domain;
     for (uint32_t i = 0; i < nodes; ++i) {
-        if (i % o.coarse_stride == 0 || fine.seed[i] > 0) {
+        if (i % o.coarse_stride_used() == 0 || fine.seed[i] > 0) {
             members.push_back(i);
             coarse_domain.push_back(domain[i]);
         }
@@ -267,7 +267,7 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
                     it != last_solution_.end() ? it->second[i] : (pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l]);
         }
     }
-    if (!warm && o.coarse_stride > 1 && nodes >= 64 * o.coarse_stride) {
+    if (!warm && o.coarse_stride_used() > 1 && nodes >= 64 * o.coarse_stride_used()) {
         auto t1 = Clock::now();
         pr.start = coarse_start(o, domain, pr);
         result.stage_ms["graph coarse start"] += ms_since(t1);
@@ -283,7 +283,9 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
     GraphReport report = graph_report(graph_, GraphSolver::Walk, pr.seed);
     report.iterations = solution.iterations;
     report.levels = solution.levels;
-    if (solution.levels) result.stage_ms["graph hierarchy"] += solution.hierarchy_ms;  // part of "graph solve"
+    // Parts of "graph solve": the host's multigrid hierarchy, the walk's GPU passes.
+    if (solution.levels) result.stage_ms["graph hierarchy"] += solution.hierarchy_ms;
+    for (const auto& t : walker_.timings()) result.stage_ms["graph walk gpu"] += t.ms;
     report.residual = solution.residual;
     // A component of the graph with no seed, prior or coarse start has no answer (its system is
     // singular and keeps whatever it started from): it stays unlabelled and is counted.

@@ -25,7 +25,7 @@ struct WalkMatrix {
 struct HierarchyOptions {
     float strength = 0.25f;         // j is a strong neighbour of i if w_ij >= strength x i's largest weight
     uint32_t aggregate = 8;         // most nodes an aggregate starts with (stragglers may join one later)
-    uint32_t coarsest = 192;        // stop coarsening at or below this many nodes (dense solve there)
+    uint32_t coarsest = 400;        // stop coarsening at or below this many nodes (dense solve there)
     uint32_t max_levels = 12;
     float omega = 0.6f;             // the Jacobi smoother's step: z += omega / d (r - A z)
 };

@@ -129,6 +129,31 @@ TEST_CASE("walk hierarchy: aggregates and the Galerkin product P^T A P match a d
     }
 }
 
+TEST_CASE("walk hierarchy: every level stays a diagonally dominant operator, down to a dense coarsest") {
+    // Bare Laplacian rows (no unary, no seed next to them) are most of a walk's rows: a coarse
+    // diagonal taken as a difference of sums would lose their aggregates' small excess to
+    // rounding (even turn it negative), and the coarsest inverse would blow up.
+    const auto a = random_operator(6000, 32);
+    seg::HierarchyOptions o;
+    const auto h = seg::build_walk_hierarchy(a, o);
+    REQUIRE(h.levels.size() >= 3);
+    CHECK(h.levels.back().matrix.size() <= o.coarsest);
+    CHECK(h.coarse_inverse.size() == size_t(h.levels.back().matrix.size()) * h.levels.back().matrix.size());
+    for (size_t l = 0; l < h.levels.size(); ++l) {
+        const auto& m = h.levels[l].matrix;
+        INFO("level " << l << " of " << h.levels.size() << ", " << m.size() << " nodes");
+        if (l > 0) CHECK(m.size() < h.levels[l - 1].matrix.size() / 2);
+        size_t worse = 0;
+        for (uint32_t i = 0; i < m.size(); ++i) {
+            double sum = 0;
+            for (uint32_t s = m.rows[i]; s < m.rows[i + 1]; ++s) sum += m.weights[s];
+            worse += m.diagonal[i] > 0.0f && m.diagonal[i] < sum * (1.0 - 1e-6);
+            CHECK(h.levels[l].smoother[i] == (m.diagonal[i] > 0.0f ? o.omega / m.diagonal[i] : 0.0f));
+        }
+        CHECK(worse == 0);
+    }
+}
+
 TEST_CASE("walk hierarchy: the coarsest level's pseudo-inverse, and a closed component without seeds left out") {
     // Two components: one with a unary term (invertible), one a bare Laplacian (singular).
     seg::WalkMatrix a;
@@ -199,6 +224,7 @@ TEST_CASE("walk multigrid: the GPU's V-cycle matches the CPU reference cycle") {
         for (auto& v : r) v = rng.uniform(-1.0f, 1.0f);
         seg::WalkOptions o;
         o.coarse_scale = 1.5f;
+        o.hierarchy.coarsest = 100;  // more levels to cross
         auto got = walker.cycle(graph, pr, r, o);
         const auto& h = walker.hierarchy();
         INFO("labels " << labels << ", levels " << h.levels.size());
