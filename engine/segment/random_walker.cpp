@@ -246,9 +246,10 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
         }
         cmd_.end_pass();
 
-        // Multigrid converges in a few tens of iterations: a fixed long wait between checks would
-        // overshoot by a large share of the solve, so (unless told) it checks after 5, then after
-        // as many as the rate seen so far says are left.
+        // Multigrid converges in a few tens of iterations: a long wait between checks would
+        // overshoot by a large share of the solve, so (unless told) it checks every 5, or sooner
+        // when the rate seen so far says fewer are left (the rate is not steady enough to
+        // wait longer on its word).
         const bool predict = multigrid && o.check_every == 0;
         uint32_t check_every = o.check_every ? o.check_every : multigrid ? 5 : 25;
         uint32_t it = 0, last_it = 0;
@@ -263,7 +264,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
             if (residual <= o.tolerance || it >= o.max_iterations) break;
             if (predict && it > last_it && residual < last) {
                 const double rate = std::log(residual / last) / double(it - last_it);
-                check_every = uint32_t(std::clamp(std::ceil(std::log(o.tolerance / residual) / rate), 1.0, 10.0));
+                check_every = uint32_t(std::clamp(std::ceil(std::log(o.tolerance / residual) / rate), 1.0, 5.0));
             }
             last = residual, last_it = it;
             cmd_.begin_pass("walk iterations");

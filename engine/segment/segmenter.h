@@ -59,12 +59,9 @@ struct SegmentOptions {
     double graph_margin = 0.5;    // the solve's domain: the ROI columns widened by this fraction per side
     float unary = 1.0f;           // ptv3+graph: a node's unary strength, in units of its degree,
     float unary_confidence = 0.97f;  // where the network's most likely label has at least this probability
-    uint32_t coarse_stride = 0;   // walk: a first solve on every n-th node starts the fine one (1: none;
-                                  // 0: 8 with the Jacobi preconditioner, none with multigrid, whose
-                                  // coarse levels already carry the far-reaching part of the answer)
-    uint32_t coarse_stride_used() const {
-        return coarse_stride ? coarse_stride : walk.preconditioner == WalkPreconditioner::Jacobi ? 8u : 1u;
-    }
+    uint32_t coarse_stride = 8;   // walk: a first solve on every n-th node starts the fine one (1: none);
+                                  // with multigrid only where the fine graph's component holds no seed
+                                  // or prior (what the coarse graph joins to the rest and labels)
 };
 
 struct ObjectResult {
