@@ -252,8 +252,8 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
         // wait longer on its word).
         const bool predict = multigrid && o.check_every == 0;
         uint32_t check_every = o.check_every ? o.check_every : multigrid ? 5 : 25;
-        uint32_t it = 0, last_it = 0;
-        double residual = 0, last = 0;
+        uint32_t it = 0, last_it = 0, best_it = 0;
+        double residual = 0, last = 0, best = 0;
         for (;;) {
             cmd_.submit_and_wait();
             for (auto& t : cmd_.timings()) timings_.push_back(t);
@@ -262,6 +262,10 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
             for (auto& v : s)
                 residual = std::max(residual, v.value.w > 0 ? std::sqrt(std::max(0.0f, v.value.x) / v.value.w) : 0.0);
             if (residual <= o.tolerance || it >= o.max_iterations) break;
+            // Asked for more than float gives (about 1e-5 of r.Br on a large scene), multigrid
+            // stalls, then drifts away: 15 iterations without a new best residual end the solve.
+            if (it == 0 || residual < best) best = residual, best_it = it;
+            if (multigrid && it >= best_it + 15) break;
             if (predict && it > last_it && residual < last) {
                 const double rate = std::log(residual / last) / double(it - last_it);
                 check_every = uint32_t(std::clamp(std::ceil(std::log(o.tolerance / residual) / rate), 1.0, 5.0));
