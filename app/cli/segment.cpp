@@ -30,7 +30,7 @@ namespace {
 struct SegmentArgs {
     std::string scene, cameras, prompts, out, model, views = "all", mode = "occlusion", up = "cameras";
     std::string roi, label_property = "instance", decoder;  // empty: graph, or ptv3+graph when --model is given
-    std::string solver = "walk+forest", lift = "surface";
+    std::string solver = "walk+forest", lift = "surface", preconditioner = "multigrid";
     double sigma = 0, scale = 0;
     bool no_refine = false, strict = false;
     seg::GraphOptions graph;
@@ -99,6 +99,9 @@ void run_segment(const SegmentArgs& args) {
     o.graph = graph_use;
     o.graph_options = a.graph;
     o.walk = a.walk;
+    if (a.preconditioner == "jacobi") o.walk.preconditioner = seg::WalkPreconditioner::Jacobi;
+    else if (a.preconditioner == "multigrid") o.walk.preconditioner = seg::WalkPreconditioner::Multigrid;
+    else throw data::InputError("--walk-preconditioner", "expected jacobi or multigrid, got '" + a.preconditioner + "'");
     o.unary = a.unary;
     o.unary_confidence = a.unary_confidence;
     o.coarse_stride = a.coarse;
@@ -147,7 +150,7 @@ void run_segment(const SegmentArgs& args) {
     if (result.graph) {
         auto& g = *result.graph;
         report["graph"] = {{"solver", seg::graph_solver_name(g.solver)}, {"nodes", g.nodes},         {"seeds", g.seeds},         {"unreached", g.unreached}, {"unreached_components", g.unreached_components},
-                           {"iterations", g.iterations}, {"rounds", g.rounds}, {"residual", g.residual}, {"cell", g.cell},
+                           {"iterations", g.iterations}, {"levels", g.levels}, {"rounds", g.rounds}, {"residual", g.residual}, {"cell", g.cell},
                            {"spacing", g.spacing},     {"k", o.graph_options.k}};
     }
     report["failed"] = failed;
@@ -243,9 +246,11 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--unary", a->unary, "ptv3+graph: strength of the network's probabilities, in units of a Gaussian's degree")->capture_default_str();
     cmd->add_option("--unary-confidence", a->unary_confidence, "ptv3+graph: the network's probabilities count only where its most likely label reaches this")->capture_default_str();
     cmd->add_option("--walk-iterations", a->walk.max_iterations, "Graph: most conjugate-gradient iterations")->capture_default_str();
-    cmd->add_option("--walk-coarse", a->coarse, "Graph: a first solve on every n-th Gaussian starts the full one (1: none)")->capture_default_str();
+    cmd->add_option("--walk-coarse", a->coarse, "Graph: a first solve on every n-th Gaussian starts the full one (1: none; with multigrid it only labels the fine graph's components that hold no seed)")->capture_default_str();
     cmd->add_option("--walk-sure", a->walk_sure, "walk+forest: the walk's label stands where its share of the probability reaches this")->capture_default_str();
     cmd->add_option("--walk-tolerance", a->walk.tolerance, "Graph: relative residual to stop at")->capture_default_str();
+    cmd->add_option("--walk-preconditioner", a->preconditioner, "Graph: the conjugate gradient's preconditioner: multigrid (an aggregation V-cycle) or jacobi (the diagonal)")->capture_default_str();
+    cmd->add_option("--walk-coarse-scale", a->walk.coarse_scale, "Graph, multigrid: the coarse correction's scale")->capture_default_str();
     add_device_option(*cmd, a->device);
     add_memory_option(*cmd, a->device);
     cmd->callback([a, &run] { run = [a] { run_segment(*a); }; });

@@ -1,6 +1,7 @@
 #include "engine/segment/random_walker.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "dataset/error.h"
@@ -8,9 +9,149 @@
 
 namespace pg::seg {
 
+namespace {
+
+template <class T>
+void put(vk::Context& ctx, vk::Buffer& to, const std::vector<T>& from) {
+    to.ensure(std::max<uint64_t>(16, from.size() * sizeof(T)));
+    if (!from.empty()) vk::upload(ctx, to, from.data(), from.size() * sizeof(T));
+}
+
+}  // namespace
+
 RandomWalker::RandomWalker(vk::Context& ctx) : ctx_(ctx), cmd_(ctx) {
-    for (auto* b : {&seed_, &gamma_, &prior_, &x_, &b_, &inv_diag_, &r_, &z_, &p_, &ap_, &partials_, &scalars_, &edge_columns_, &edge_weights_})
+    for (auto* b : {&seed_, &gamma_, &prior_, &x_, &b_, &inv_diag_, &r_, &z_, &p_, &ap_, &partials_, &scalars_, &edge_columns_, &edge_weights_, &coarse_inverse_})
         *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "random walker");
+}
+
+RandomWalker::DeviceLevel::DeviceLevel(vk::Context& ctx) {
+    for (auto* b : {&rows, &columns, &weights, &diagonal, &smoother, &parent, &child_rows, &children, &r, &pre, &z})
+        *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "random walker level");
+}
+
+bool RandomWalker::build_hierarchy(const KnnGraph& graph, const std::vector<int32_t>& seed, const std::vector<float>& gamma,
+                                   uint32_t width, const WalkOptions& o, WalkResult& out) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const uint32_t n = graph.nodes();
+    // The fine operator as walk_apply sees it: walk_edges' columns and weights (0 toward seeds),
+    // degree + gamma on the diagonal; a seed's row is out of the system.
+    WalkMatrix fine;
+    fine.rows = vk::download_vector<uint32_t>(ctx_, graph.rows(), size_t(n) + 1);
+    fine.columns = vk::download_vector<uint32_t>(ctx_, edge_columns_, fine.rows[n]);
+    fine.weights = vk::download_vector<float>(ctx_, edge_weights_, fine.rows[n]);
+    fine.diagonal = vk::download_vector<float>(ctx_, graph.degree_buffer(), n);
+    for (uint32_t i = 0; i < n; ++i) {
+        const float d = fine.diagonal[i] + gamma[i];
+        fine.diagonal[i] = seed[i] == gpu::kWalkFree && d > 0.0f ? d : 0.0f;
+    }
+    hierarchy_ = build_walk_hierarchy(std::move(fine), o.hierarchy);
+    const WalkHierarchy& h = hierarchy_;
+    out.hierarchy_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (h.levels.size() < 2 || h.coarse_inverse.empty()) return false;
+    const size_t count = h.levels.size();
+    while (levels_.size() < count) levels_.emplace_back(ctx_);
+    level_nodes_.assign(count, 0);
+    for (size_t l = 0; l < count; ++l) {
+        const WalkLevel& from = h.levels[l];
+        DeviceLevel& to = levels_[l];
+        level_nodes_[l] = from.matrix.size();
+        if (l > 0) {
+            // Level 0's operator and vectors are the solve's own buffers.
+            put(ctx_, to.rows, from.matrix.rows);
+            put(ctx_, to.columns, from.matrix.columns);
+            put(ctx_, to.weights, from.matrix.weights);
+            to.r.ensure(uint64_t(level_nodes_[l]) * width * 4);
+            to.z.ensure(uint64_t(level_nodes_[l]) * width * 4);
+        }
+        put(ctx_, to.diagonal, from.matrix.diagonal);
+        put(ctx_, to.smoother, from.smoother);
+        to.pre.ensure(uint64_t(level_nodes_[l]) * width * 4);
+        if (l + 1 < count) {
+            put(ctx_, to.parent, from.parent);
+            put(ctx_, to.child_rows, from.child_rows);
+            put(ctx_, to.children, from.children);
+        }
+    }
+    put(ctx_, coarse_inverse_, h.coarse_inverse);
+    out.levels = uint32_t(count);
+    out.hierarchy_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return true;
+}
+
+std::vector<float> RandomWalker::cycle(const KnnGraph& graph, const WalkProblem& pr, const std::vector<float>& r,
+                                      const WalkOptions& o) {
+    const uint32_t n = graph.nodes(), labels = pr.labels, width = (labels + 3) / 4 * 4;
+    if (labels == 0 || labels > gpu::kWalkMaxLabels || pr.seed.size() != n || r.size() != size_t(n) * labels)
+        throw data::InputError("random walker cycle", "expects 1 to 16 labels, a seed and r per node");
+    const std::vector<float> gamma = pr.gamma.empty() ? std::vector<float>(n, 0.0f) : pr.gamma;
+    seed_.ensure(uint64_t(n) * 4);
+    vk::upload(ctx_, seed_, pr.seed.data(), uint64_t(n) * 4);
+    edge_columns_.ensure(2ull * n * graph.k() * 4);
+    edge_weights_.ensure(2ull * n * graph.k() * 4);
+    const gpu::WalkPush push{{n, graph.k(), labels, vk::ceil_div(n, gpu::kGraphGroup)}, {0, 0, 0, 0}};
+    cmd_.begin_pass("walk edges");
+    cmd_.dispatch("segment/walk_edges", {graph.entries(), graph.neighbour_buffer(), graph.weight_buffer(), seed_, graph.rows(),
+                                         edge_columns_, edge_weights_},
+                  push, vk::ceil_div(2ull * n * graph.k(), gpu::kGraphGroup));
+    cmd_.end_pass();
+    cmd_.submit_and_wait();
+    WalkResult unused;
+    if (!build_hierarchy(graph, pr.seed, gamma, width, o, unused))
+        throw data::InputError("random walker cycle", "the graph did not coarsen");
+    // r in this solve's layout; walk_residual with A x = 0 gives the cycle its r and level 0's
+    // pre-smoothing, as in a solve.
+    std::vector<float> columns(size_t(n) * width, 0.0f), zero(size_t(n) * width, 0.0f);
+    for (uint32_t i = 0; i < n; ++i)
+        for (uint32_t l = 0; l < labels; ++l) columns[size_t(i) * width + l] = r[size_t(i) * labels + l];
+    for (auto* b : {&b_, &ap_, &r_, &z_, &p_}) b->ensure(uint64_t(n) * width * 4);
+    partials_.ensure(uint64_t(push.size.w) * gpu::kWalkMaxLabels * 4);
+    vk::upload(ctx_, b_, columns.data(), columns.size() * 4);
+    vk::upload(ctx_, ap_, zero.data(), zero.size() * 4);
+    cmd_.begin_pass("walk cycle");
+    cmd_.dispatch("segment/walk_residual", {b_, ap_, levels_[0].smoother, r_, levels_[0].pre, p_, partials_}, push,
+                  push.size.w);
+    record_cycle(graph, labels, o.coarse_scale);
+    cmd_.end_pass();
+    cmd_.submit_and_wait();
+    auto z = vk::download_vector<float>(ctx_, z_, size_t(n) * width);
+    std::vector<float> out(size_t(n) * labels);
+    for (uint32_t i = 0; i < n; ++i)
+        for (uint32_t l = 0; l < labels; ++l) out[size_t(i) * labels + l] = z[size_t(i) * width + l];
+    return out;
+}
+
+void RandomWalker::record_cycle(const KnnGraph& graph, uint32_t labels, float scale) {
+    const uint32_t count = uint32_t(level_nodes_.size());
+    auto rows = [&](uint32_t l) -> const vk::Buffer& { return l == 0 ? graph.rows() : levels_[l].rows; };
+    auto columns = [&](uint32_t l) -> const vk::Buffer& { return l == 0 ? edge_columns_ : levels_[l].columns; };
+    auto weights = [&](uint32_t l) -> const vk::Buffer& { return l == 0 ? edge_weights_ : levels_[l].weights; };
+    auto r = [&](uint32_t l) -> const vk::Buffer& { return l == 0 ? r_ : levels_[l].r; };
+    auto z = [&](uint32_t l) -> const vk::Buffer& { return l == 0 ? z_ : levels_[l].z; };
+    auto push = [&](uint32_t l, uint32_t partials) {
+        const uint32_t next = l + 1 < count ? level_nodes_[l + 1] : 0;
+        return gpu::WalkCyclePush{{level_nodes_[l], next, labels, vk::ceil_div(level_nodes_[l], gpu::kGraphGroup)},
+                                  {partials, 0, 0, 0},
+                                  {scale, 0, 0, 0}};
+    };
+    // Down: level l's residual after its pre-smoothing, summed per aggregate, is level l + 1's
+    // right-hand side (level 0's pre-smoothing is walk_update's / walk_residual's z).
+    for (uint32_t l = 0; l + 1 < count; ++l) {
+        const DeviceLevel& at = levels_[l];
+        cmd_.dispatch("segment/walk_restrict",
+                      {rows(l), columns(l), weights(l), at.diagonal, at.child_rows, at.children, r(l), at.pre,
+                       levels_[l + 1].smoother, r(l + 1), levels_[l + 1].pre},
+                      push(l, 0), vk::ceil_div(level_nodes_[l + 1], gpu::kGraphGroup));
+    }
+    cmd_.dispatch("segment/walk_coarsest", {coarse_inverse_, r(count - 1), z(count - 1)}, push(count - 1, 0),
+                  vk::ceil_div(level_nodes_[count - 1], 64));
+    // Up: the coarse correction, then the post-smoothing sweep.
+    for (uint32_t l = count - 1; l-- > 0;) {
+        const DeviceLevel& at = levels_[l];
+        const uint32_t groups = vk::ceil_div(level_nodes_[l], gpu::kGraphGroup);
+        cmd_.dispatch("segment/walk_prolong", {at.parent, z(l + 1), at.pre}, push(l, 0), groups);
+        cmd_.dispatch("segment/walk_smooth", {rows(l), columns(l), weights(l), at.diagonal, at.smoother, r(l), at.pre, z(l), partials_},
+                      push(l, l == 0 ? 1 : 0), groups);
+    }
 }
 
 WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, const WalkOptions& o) {
@@ -46,6 +187,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
     partials_.ensure(uint64_t(node_groups) * gpu::kWalkMaxLabels * 4);
     scalars_.ensure(uint64_t(gpu::kWalkMaxLabels) * sizeof(gpu::WalkScalars));
     timings_.clear();
+    bool multigrid = false;
 
     for (uint32_t base = 0; base < total; base += gpu::kWalkMaxLabels) {
         const uint32_t labels = std::min(gpu::kWalkMaxLabels, total - base);
@@ -81,12 +223,37 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
         cmd_.dispatch("segment/walk_apply", {rows, edge_columns_, edge_weights_, deg, seed_, gamma_, x_, ap_, partials_}, push[0], node_groups);
         cmd_.dispatch("segment/walk_residual", {b_, ap_, inv_diag_, r_, z_, p_, partials_}, push[3], node_groups);
         cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[3], reduce_groups);
-        cmd_.dispatch("segment/walk_residual", {b_, ap_, inv_diag_, r_, z_, p_, partials_}, push[0], node_groups);
-        cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[0], reduce_groups);
+        cmd_.end_pass();
+        if (base == 0 && o.preconditioner == WalkPreconditioner::Multigrid) {
+            // The hierarchy needs walk_edges' arrays (the same for every column batch).
+            cmd_.submit_and_wait();
+            for (auto& t : cmd_.timings()) timings_.push_back(t);
+            multigrid = build_hierarchy(graph, pr.seed, gamma, most_width, o, out);
+        }
+        if (multigrid) {
+            // r = b - A x, pre-smoothing z = smoother r (walk_residual with the smoother for
+            // 1/diag), the V-cycle, r.z, and p = z (beta is 0 at the start).
+            cmd_.begin_pass("walk multigrid start");
+            cmd_.dispatch("segment/walk_residual", {b_, ap_, levels_[0].smoother, r_, levels_[0].pre, p_, partials_}, push[0],
+                          node_groups);
+            record_cycle(graph, labels, o.coarse_scale);
+            cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[0], reduce_groups);
+            cmd_.dispatch("segment/walk_direction", {scalars_, z_, p_}, push[0], node_groups);
+        } else {
+            cmd_.begin_pass("walk start");
+            cmd_.dispatch("segment/walk_residual", {b_, ap_, inv_diag_, r_, z_, p_, partials_}, push[0], node_groups);
+            cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[0], reduce_groups);
+        }
         cmd_.end_pass();
 
-        uint32_t it = 0;
-        double residual = 0;
+        // Multigrid converges in a few tens of iterations: a long wait between checks would
+        // overshoot by a large share of the solve, so (unless told) it checks every 5, or sooner
+        // when the rate seen so far says fewer are left (the rate is not steady enough to
+        // wait longer on its word).
+        const bool predict = multigrid && o.check_every == 0;
+        uint32_t check_every = o.check_every ? o.check_every : multigrid ? 5 : 25;
+        uint32_t it = 0, last_it = 0, best_it = 0;
+        double residual = 0, last = 0, best = 0;
         for (;;) {
             cmd_.submit_and_wait();
             for (auto& t : cmd_.timings()) timings_.push_back(t);
@@ -95,13 +262,30 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
             for (auto& v : s)
                 residual = std::max(residual, v.value.w > 0 ? std::sqrt(std::max(0.0f, v.value.x) / v.value.w) : 0.0);
             if (residual <= o.tolerance || it >= o.max_iterations) break;
+            // Asked for more than float gives (about 1e-5 of r.Br on a large scene), multigrid
+            // stalls, then drifts away: 15 iterations without a new best residual end the solve.
+            if (it == 0 || residual < best) best = residual, best_it = it;
+            if (multigrid && it >= best_it + 15) break;
+            if (predict && it > last_it && residual < last) {
+                const double rate = std::log(residual / last) / double(it - last_it);
+                check_every = uint32_t(std::clamp(std::ceil(std::log(o.tolerance / residual) / rate), 1.0, 5.0));
+            }
+            last = residual, last_it = it;
             cmd_.begin_pass("walk iterations");
-            for (uint32_t c = 0; c < o.check_every && it < o.max_iterations; ++c, ++it) {
+            for (uint32_t c = 0; c < check_every && it < o.max_iterations; ++c, ++it) {
                 cmd_.dispatch("segment/walk_apply", {rows, edge_columns_, edge_weights_, deg, seed_, gamma_, p_, ap_, partials_}, push[1],
                               node_groups);
                 cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[1], reduce_groups);
-                cmd_.dispatch("segment/walk_update", {scalars_, p_, ap_, inv_diag_, x_, r_, z_, partials_}, push[0],
-                              node_groups);
+                if (multigrid) {
+                    // walk_update's z = smoother r is the V-cycle's pre-smoothing on level 0
+                    // (its dots go unused: the cycle's last sweep writes r . z).
+                    cmd_.dispatch("segment/walk_update", {scalars_, p_, ap_, levels_[0].smoother, x_, r_, levels_[0].pre, partials_},
+                                  push[0], node_groups);
+                    record_cycle(graph, labels, o.coarse_scale);
+                } else {
+                    cmd_.dispatch("segment/walk_update", {scalars_, p_, ap_, inv_diag_, x_, r_, z_, partials_}, push[0],
+                                  node_groups);
+                }
                 cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[2], reduce_groups);
                 cmd_.dispatch("segment/walk_direction", {scalars_, z_, p_}, push[0], node_groups);
             }

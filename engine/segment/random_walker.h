@@ -3,13 +3,15 @@
 // l, x_l minimises sum_ij w_ij (x_il - x_jl)^2 + sum_i gamma_i (x_il - q_il)^2 with seeds held
 // at their label's indicator, i.e. (L + Gamma) x_l = Gamma q_l + (seed coupling) over the
 // unknown nodes. x_il is the probability that a walk from node i, stopped at a seed or (with
-// rate gamma_i) by the prior, ends in label l. Jacobi-preconditioned conjugate gradient, all
-// labels at once (up to kWalkMaxLabels columns per solve; more run as several); the host waits
-// once every `check_every` iterations for the residuals.
+// rate gamma_i) by the prior, ends in label l. Preconditioned conjugate gradient, all labels at
+// once (up to kWalkMaxLabels columns per solve; more run as several); the host waits once every
+// `check_every` iterations for the residuals. The preconditioner is an aggregation multigrid
+// V-cycle (walk_hierarchy, built on the host once per graph and seed set) or the diagonal.
 #include <cstdint>
 #include <vector>
 
 #include "engine/segment/knn_graph.h"
+#include "engine/segment/walk_hierarchy.h"
 
 namespace pg::seg {
 
@@ -21,16 +23,24 @@ struct WalkProblem {
     std::vector<float> start;       // node-major starting point (empty: the prior, or 0)
 };
 
+enum class WalkPreconditioner { Jacobi, Multigrid };
+
 struct WalkOptions {
     uint32_t max_iterations = 1000;
     float tolerance = 1e-3f;        // stop when r.z <= tolerance^2 x b.b/diag, for every label
-    uint32_t check_every = 25;
+    uint32_t check_every = 0;       // iterations between the host's residual checks (0: 25 for
+                                    // Jacobi, 5 for multigrid, which takes a few tens in all)
+    WalkPreconditioner preconditioner = WalkPreconditioner::Multigrid;
+    float coarse_scale = 1.0f;      // multigrid: the coarse correction's scale
+    HierarchyOptions hierarchy;
 };
 
 struct WalkResult {
     std::vector<float> x;           // node-major, labels per node
     uint32_t iterations = 0;        // most over the column batches
     double residual = 0;            // largest final sqrt(r.z / (b.b/diag))
+    uint32_t levels = 0;            // multigrid levels (0: the Jacobi preconditioner)
+    double hierarchy_ms = 0;        // host time building the multigrid hierarchy
 };
 
 class RandomWalker {
@@ -39,11 +49,35 @@ public:
     WalkResult solve(const KnnGraph& graph, const WalkProblem& problem, const WalkOptions& options = {});
     const std::vector<vk::PassTiming>& timings() const { return timings_; }
 
+    // For tests: the multigrid V-cycle z = B r on the GPU for `problem`'s operator (labels <=
+    // kWalkMaxLabels columns, node-major), and the host hierarchy it was built from (that of the
+    // last multigrid solve or cycle; empty if none).
+    std::vector<float> cycle(const KnnGraph& graph, const WalkProblem& problem, const std::vector<float>& r,
+                             const WalkOptions& options = {});
+    const WalkHierarchy& hierarchy() const { return hierarchy_; }
+
 private:
+    // One level of the multigrid hierarchy on the device (level 0's operator is the graph's
+    // rows with edge_columns_ / edge_weights_; its r and z are the solve's r_ and z_).
+    struct DeviceLevel {
+        explicit DeviceLevel(vk::Context& ctx);
+        vk::Buffer rows, columns, weights, diagonal, smoother, parent, child_rows, children, r, pre, z;
+    };
+    // Downloads the fine operator (after walk_edges ran), builds the hierarchy and uploads it;
+    // false when it did not coarsen (the solve then falls back to Jacobi).
+    bool build_hierarchy(const KnnGraph& graph, const std::vector<int32_t>& seed, const std::vector<float>& gamma,
+                         uint32_t width, const WalkOptions& options, WalkResult& out);
+    // Records z = B r over levels [l, end) (level l's r and pre-smoothed z in place).
+    void record_cycle(const KnnGraph& graph, uint32_t labels, float scale);
+
     vk::Context& ctx_;
     vk::CommandList cmd_;
     vk::Buffer seed_, gamma_, prior_, x_, b_, inv_diag_, r_, z_, p_, ap_, partials_, scalars_, edge_columns_, edge_weights_;
     std::vector<vk::PassTiming> timings_;
+    WalkHierarchy hierarchy_;
+    std::vector<DeviceLevel> levels_;
+    std::vector<uint32_t> level_nodes_;
+    vk::Buffer coarse_inverse_;
 };
 
 }  // namespace pg::seg

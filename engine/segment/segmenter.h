@@ -59,7 +59,9 @@ struct SegmentOptions {
     double graph_margin = 0.5;    // the solve's domain: the ROI columns widened by this fraction per side
     float unary = 1.0f;           // ptv3+graph: a node's unary strength, in units of its degree,
     float unary_confidence = 0.97f;  // where the network's most likely label has at least this probability
-    uint32_t coarse_stride = 8;   // walk: a first solve on every n-th node starts the fine one (1: none)
+    uint32_t coarse_stride = 8;   // walk: a first solve on every n-th node starts the fine one (1: none);
+                                  // with multigrid only where the fine graph's component holds no seed
+                                  // or prior (what the coarse graph joins to the rest and labels)
 };
 
 struct ObjectResult {
@@ -83,6 +85,7 @@ struct GraphReport {
     size_t unreached = 0, unreached_components = 0;  // Gaussians (and components) with no seed or prior: unlabelled
     GraphSolver solver = GraphSolver::Walk;
     uint32_t iterations = 0;     // the walk's conjugate-gradient iterations
+    uint32_t levels = 0;         // the walk's multigrid levels (0: Jacobi preconditioner)
     uint32_t rounds = 0;         // the forest's relaxation rounds
     double residual = 0, cell = 0, spacing = 0;
 };

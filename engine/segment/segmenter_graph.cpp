@@ -15,10 +15,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// Per node: whether its connected component holds a seed, a prior or a coarse start (the
-// coarse graph, sparser, joins what the fine kNN graph splits); counts the others.
-std::vector<uint8_t> reached_components(const KnnGraph& graph, const std::vector<uint32_t>& nbr, const WalkProblem& pr,
-                                        GraphReport& report) {
+// Per node the root of its connected component in the kNN graph.
+std::vector<uint32_t> component_roots(const KnnGraph& graph, const std::vector<uint32_t>& nbr) {
     const uint32_t n = graph.nodes(), k = graph.k();
     std::vector<uint32_t> parent(n);
     for (uint32_t i = 0; i < n; ++i) parent[i] = i;
@@ -32,6 +30,26 @@ std::vector<uint8_t> reached_components(const KnnGraph& graph, const std::vector
                 uint32_t a = find(i), b = find(j);
                 if (a != b) parent[std::max(a, b)] = std::min(a, b);
             }
+    for (uint32_t i = 0; i < n; ++i) parent[i] = find(i);
+    return parent;
+}
+
+// Whether a node's component holds a seed or a unary term: the solve reaches it by itself.
+std::vector<uint8_t> seeded_components(const std::vector<uint32_t>& root, const WalkProblem& pr) {
+    std::vector<uint8_t> root_seeded(root.size(), 0), seeded(root.size(), 0);
+    for (size_t i = 0; i < root.size(); ++i)
+        if (pr.seed[i] >= 0 || (!pr.gamma.empty() && pr.gamma[i] > 0)) root_seeded[root[i]] = 1;
+    for (size_t i = 0; i < root.size(); ++i) seeded[i] = root_seeded[root[i]];
+    return seeded;
+}
+
+// Per node: whether its connected component holds a seed, a prior or a coarse start (the
+// coarse graph, sparser, joins what the fine kNN graph splits); counts the others.
+std::vector<uint8_t> reached_components(const KnnGraph& graph, const std::vector<uint32_t>& nbr, const WalkProblem& pr,
+                                        GraphReport& report) {
+    const uint32_t n = graph.nodes();
+    const auto root = component_roots(graph, nbr);
+    auto find = [&](uint32_t i) { return root[i]; };
     std::vector<uint8_t> root_reached(n, 0), seen(n, 0), reached(n, 0);
     auto started = [&](uint32_t i) {
         if (pr.start.empty()) return false;
@@ -270,6 +288,17 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
     if (!warm && o.coarse_stride > 1 && nodes >= 64 * o.coarse_stride) {
         auto t1 = Clock::now();
         pr.start = coarse_start(o, domain, pr);
+        if (o.walk.preconditioner == WalkPreconditioner::Multigrid) {
+            // Multigrid needs no head start where seeds or priors reach (its coarse levels carry
+            // the far-reaching part, and the coarse answer's roughness costs it iterations):
+            // there it starts from the prior. The coarse start stays where the fine graph's
+            // component has nothing to start from, which only the coarse graph joins to the rest.
+            const auto seeded = seeded_components(component_roots(graph_, nbr), pr);
+            for (uint32_t i = 0; i < nodes; ++i)
+                if (seeded[i])
+                    for (uint32_t l = 0; l < labels; ++l)
+                        pr.start[size_t(i) * labels + l] = pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l];
+        }
         result.stage_ms["graph coarse start"] += ms_since(t1);
     }
     auto solution = walker_.solve(graph_, pr, o.walk);
@@ -282,6 +311,10 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
 
     GraphReport report = graph_report(graph_, GraphSolver::Walk, pr.seed);
     report.iterations = solution.iterations;
+    report.levels = solution.levels;
+    // Parts of "graph solve": the host's multigrid hierarchy, the walk's GPU passes.
+    if (solution.levels) result.stage_ms["graph hierarchy"] += solution.hierarchy_ms;
+    for (const auto& t : walker_.timings()) result.stage_ms["graph walk gpu"] += t.ms;
     report.residual = solution.residual;
     // A component of the graph with no seed, prior or coarse start has no answer (its system is
     // singular and keeps whatever it started from): it stays unlabelled and is counted.

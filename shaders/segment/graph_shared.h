@@ -58,6 +58,16 @@ struct WalkPush {
                  // y: the label of column 0 (seeds hold labels of all columns)
 };
 
+// walk_restrict, walk_coarsest, walk_prolong, walk_smooth: the multigrid V-cycle that
+// preconditions the walk (engine/segment/walk_hierarchy): one weighted-Jacobi sweep before and
+// after each coarse correction, the coarsest level by its dense pseudo-inverse.
+struct WalkCyclePush {
+    uvec4 size;   // x: nodes of this level, y: nodes of the next coarser one, z: labels in use,
+                  // w: workgroups of this level's node pass (the partial dots' count)
+    uvec4 mode;   // x: walk_smooth 1 = also the partial dots r . z (the finest level)
+    vec4 scale;   // x: the coarse correction's scale (unsmoothed aggregation wants over-correction)
+};
+
 // forest_step: one round of the seeded maximum-spanning-forest relaxation. A node's state is
 // (w, q): w the float bits of its widest path's weakest affinity to a seed, q the node just past
 // that weakest edge (a seed: itself); (0, 0) means no seed reached yet. States compare as (w, q);

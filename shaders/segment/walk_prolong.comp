@@ -1,0 +1,22 @@
+#version 450
+// Multigrid, going up: every node adds its aggregate's correction (piecewise-constant
+// prolongation), scaled, to its pre-smoothed value, in place.
+#extension GL_GOOGLE_include_directive : require
+#include "common/dispatch.glsl"
+#include "segment/graph_shared.h"
+
+layout(local_size_x = 256) in;
+layout(std430, binding = 0) readonly buffer Parent { uint parent[]; };  // kGraphNone: out of the system
+layout(std430, binding = 1) readonly buffer CoarseZ { vec4 coarse_z[]; };
+layout(std430, binding = 2) buffer Z { vec4 z[]; };
+layout(push_constant) uniform Push { WalkCyclePush pc; };
+#define WALK_VECS ((pc.size.z + 3u) / 4u)
+
+void main() {
+    uint vecs = WALK_VECS;
+    uint i = pg_global_index();
+    if (i >= pc.size.x) return;
+    uint a = parent[i];
+    if (a == kGraphNone) return;
+    for (uint c = 0u; c < vecs; ++c) z[i * vecs + c] += pc.scale.x * coarse_z[a * vecs + c];
+}
