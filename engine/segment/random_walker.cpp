@@ -20,7 +20,7 @@ void put(vk::Context& ctx, vk::Buffer& to, const std::vector<T>& from) {
 }  // namespace
 
 RandomWalker::RandomWalker(vk::Context& ctx) : ctx_(ctx), cmd_(ctx) {
-    for (auto* b : {&seed_, &gamma_, &prior_, &x_, &b_, &inv_diag_, &r_, &z_, &p_, &ap_, &partials_, &scalars_, &edge_columns_, &edge_weights_, &coarse_inverse_})
+    for (auto* b : {&seed_, &gamma_, &prior_, &x_, &b_, &inv_diag_, &r_, &z_, &p_, &ap_, &partials_, &scalars_, &check_, &best_x_, &edge_columns_, &edge_weights_, &coarse_inverse_})
         *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "random walker");
 }
 
@@ -183,9 +183,10 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
     edge_weights_.ensure(2ull * n * graph.k() * 4);
     const uint32_t most = std::min(total, gpu::kWalkMaxLabels);
     const uint32_t most_width = (most + 3) / 4 * 4;
-    for (auto* b : {&prior_, &x_, &b_, &r_, &z_, &p_, &ap_}) b->ensure(uint64_t(n) * most_width * 4);
+    for (auto* b : {&prior_, &x_, &b_, &r_, &z_, &p_, &ap_, &best_x_}) b->ensure(uint64_t(n) * most_width * 4);
     partials_.ensure(uint64_t(node_groups) * gpu::kWalkMaxLabels * 4);
     scalars_.ensure(uint64_t(gpu::kWalkMaxLabels) * sizeof(gpu::WalkScalars));
+    check_.ensure(uint64_t(gpu::kWalkMaxLabels) * sizeof(gpu::WalkScalars));
     timings_.clear();
     bool multigrid = false;
 
@@ -253,18 +254,41 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
         const bool predict = multigrid && o.check_every == 0;
         uint32_t check_every = o.check_every ? o.check_every : multigrid ? 5 : 25;
         uint32_t it = 0, last_it = 0, best_it = 0;
-        double residual = 0, last = 0, best = 0;
+        double residual = 0, last = 0;
+        std::vector<double> best(labels, 1e300);  // per column: its best residual (multigrid keeps that iterate)
+        std::vector<double> column(labels, 0.0);
         for (;;) {
+            if (multigrid) {
+                // The stop test measures r . r / diag, as the Jacobi solve does (see walk_check), over
+                // the nodes in the hierarchy: level 0's smoother is omega / diag there and 0 on the
+                // components it leaves out (no seed or prior: they keep their start, whatever their r).
+                cmd_.begin_pass("walk check");
+                cmd_.dispatch("segment/walk_check", {r_, levels_[0].smoother, partials_}, push[0], node_groups);
+                cmd_.dispatch("segment/walk_reduce", {partials_, check_}, push[0], reduce_groups);
+                cmd_.end_pass();
+            }
             cmd_.submit_and_wait();
             for (auto& t : cmd_.timings()) timings_.push_back(t);
             auto s = vk::download_vector<gpu::WalkScalars>(ctx_, scalars_, labels);
+            if (multigrid) {
+                const auto c = vk::download_vector<gpu::WalkScalars>(ctx_, check_, labels);
+                for (uint32_t l = 0; l < labels; ++l) s[l].value.x = c[l].value.x / o.hierarchy.omega;
+            }
             residual = 0;
-            for (auto& v : s)
-                residual = std::max(residual, v.value.w > 0 ? std::sqrt(std::max(0.0f, v.value.x) / v.value.w) : 0.0);
+            for (uint32_t l = 0; l < labels; ++l) {
+                const auto& v = s[l].value;
+                column[l] = v.w > 0 ? std::sqrt(std::max(0.0f, v.x) / v.w) : 0.0;
+                residual = std::max(residual, column[l]);
+            }
+            // Asked for more than float gives, or on a scene whose few seeds leave the operator
+            // nearly singular (a real capture with two clicks), multigrid stalls and may blow up,
+            // one column at a time: each column's best iterate is kept (best_x_, as the next batch
+            // starts) and answers for it, and 15 iterations in which no column improved end the solve.
+            uint32_t improved = 0;
+            for (uint32_t l = 0; l < labels; ++l)
+                if (column[l] < best[l]) best[l] = column[l], improved |= 1u << l;
+            if (improved) best_it = it;
             if (residual <= o.tolerance || it >= o.max_iterations) break;
-            // Asked for more than float gives (about 1e-5 of r.Br on a large scene), multigrid
-            // stalls, then drifts away: 15 iterations without a new best residual end the solve.
-            if (it == 0 || residual < best) best = residual, best_it = it;
             if (multigrid && it >= best_it + 15) break;
             if (predict && it > last_it && residual < last) {
                 const double rate = std::log(residual / last) / double(it - last_it);
@@ -272,6 +296,11 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
             }
             last = residual, last_it = it;
             cmd_.begin_pass("walk iterations");
+            if (multigrid && improved) {
+                gpu::WalkPush keep = push[0];
+                keep.mode.z = improved;
+                cmd_.dispatch("segment/walk_keep", {x_, best_x_}, keep, node_groups);
+            }
             for (uint32_t c = 0; c < check_every && it < o.max_iterations; ++c, ++it) {
                 cmd_.dispatch("segment/walk_apply", {rows, edge_columns_, edge_weights_, deg, seed_, gamma_, p_, ap_, partials_}, push[1],
                               node_groups);
@@ -291,9 +320,22 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
             }
             cmd_.end_pass();
         }
+        // A column whose last residual is not its best answers with its best iterate.
+        double answered = 0;
+        uint32_t from_best = 0;
+        for (uint32_t l = 0; l < labels; ++l) {
+            if (multigrid && best[l] < column[l]) from_best |= 1u << l;
+            answered = std::max(answered, multigrid ? std::min(best[l], column[l]) : column[l]);
+        }
         out.iterations = std::max(out.iterations, it);
-        out.residual = std::max(out.residual, residual);
+        out.residual = std::max(out.residual, answered);
         auto x = vk::download_vector<float>(ctx_, x_, size_t(n) * width);
+        if (from_best) {
+            const auto kept = vk::download_vector<float>(ctx_, best_x_, size_t(n) * width);
+            for (uint32_t i = 0; i < n; ++i)
+                for (uint32_t l = 0; l < labels; ++l)
+                    if (from_best >> l & 1u) x[size_t(i) * width + l] = kept[size_t(i) * width + l];
+        }
         for (uint32_t i = 0; i < n; ++i)
             for (uint32_t l = 0; l < labels; ++l) out.x[size_t(i) * total + base + l] = x[size_t(i) * width + l];
     }
