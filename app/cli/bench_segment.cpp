@@ -69,8 +69,10 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     o.up = data::up_from_cameras(cameras);
     o.graph = graph;
 
+    // The masks are timed in the first click's view (the first camera for a click given in 3D).
     const auto& click = one.objects.front().clicks.front();
-    auto cam = std::find_if(cameras.begin(), cameras.end(), [&](auto& c) { return c.name == click.view; });
+    auto cam = click.point ? cameras.begin()
+                           : std::find_if(cameras.begin(), cameras.end(), [&](auto& c) { return c.name == click.view; });
     if (cam == cameras.end()) throw data::InputError(a.prompts, "the first click's view is not among the cameras");
 
     std::map<std::string, std::vector<double>> click_ms, view_ms;
