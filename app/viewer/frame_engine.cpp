@@ -29,6 +29,20 @@ std::shared_ptr<FrameEngine::Pixels> FrameEngine::free_pixels() {
     return pixels_.back();
 }
 
+render::RenderStyle FrameEngine::tints(const FrameRequest& rq, const vk::Buffer& labels) {
+    render::RenderStyle style;
+    if (rq.palette.empty()) return style;
+    if (rq.palette != palette_uploaded_) {  // on a discrete GPU each upload is a staged copy and a wait
+        palette_.ensure(rq.palette.size() * sizeof(glm::vec4));
+        vk::upload(ctx_, palette_, rq.palette.data(), rq.palette.size() * sizeof(glm::vec4));
+        palette_uploaded_ = rq.palette;
+    }
+    style.labels = &labels;
+    style.palette = &palette_;
+    style.palette_size = uint32_t(rq.palette.size());
+    return style;
+}
+
 FramePicture FrameEngine::render(const FrameRequest& rq) {
     const auto t0 = std::chrono::steady_clock::now();
     FramePicture out;
@@ -42,17 +56,7 @@ FramePicture FrameEngine::render(const FrameRequest& rq) {
         masks_ = std::make_unique<seg::MaskViews>(ctx_, scene_, labels_);
         labels_version_ = rq.labels_version;
     }
-    render::RenderStyle style;
-    if (labelled && !rq.palette.empty()) {
-        if (rq.palette != palette_uploaded_) {  // on a discrete GPU each upload is a staged copy and a wait
-            palette_.ensure(rq.palette.size() * sizeof(glm::vec4));
-            vk::upload(ctx_, palette_, rq.palette.data(), rq.palette.size() * sizeof(glm::vec4));
-            palette_uploaded_ = rq.palette;
-        }
-        style.labels = &labels_;
-        style.palette = &palette_;
-        style.palette_size = uint32_t(rq.palette.size());
-    }
+    const render::RenderStyle style = labelled ? tints(rq, labels_) : render::RenderStyle{};
     renderer_.render(scene_, rq.camera, rq.settings, style.labels ? &style : nullptr);
     for (auto& t : renderer_.timings()) out.render_ms += t.ms;
     const int w = renderer_.width(), h = renderer_.height();
@@ -87,23 +91,13 @@ FramePicture FrameEngine::render_preview(const FrameRequest& rq, bool labelled, 
     out.id = rq.id;
     out.camera = rq.camera;
     out.preview = true;
-    render::RenderStyle style;
-    if (labelled && !rq.palette.empty()) {
-        if (rq.labels_version != preview_labels_version_) {
-            std::vector<int32_t> sub(preview_ids_->size());
-            for (size_t i = 0; i < sub.size(); ++i) sub[i] = (*rq.labels)[(*preview_ids_)[i]];
-            preview_labels_ = vk::upload_vector(ctx_, sub, "viewer preview labels");
-            preview_labels_version_ = rq.labels_version;
-        }
-        if (rq.palette != palette_uploaded_) {
-            palette_.ensure(rq.palette.size() * sizeof(glm::vec4));
-            vk::upload(ctx_, palette_, rq.palette.data(), rq.palette.size() * sizeof(glm::vec4));
-            palette_uploaded_ = rq.palette;
-        }
-        style.labels = &preview_labels_;
-        style.palette = &palette_;
-        style.palette_size = uint32_t(rq.palette.size());
+    if (labelled && rq.labels_version != preview_labels_version_) {
+        std::vector<int32_t> sub(preview_ids_->size());
+        for (size_t i = 0; i < sub.size(); ++i) sub[i] = (*rq.labels)[(*preview_ids_)[i]];
+        preview_labels_ = vk::upload_vector(ctx_, sub, "viewer preview labels");
+        preview_labels_version_ = rq.labels_version;
     }
+    const render::RenderStyle style = labelled ? tints(rq, preview_labels_) : render::RenderStyle{};
     renderer_.render(*preview_, rq.camera, rq.settings, style.labels ? &style : nullptr);
     for (auto& t : renderer_.timings()) out.render_ms += t.ms;
     auto pixels = free_pixels();

@@ -54,6 +54,8 @@ private:
         vk::Buffer rgba, object;
     };
     std::shared_ptr<Pixels> free_pixels();
+    // The request's palette (uploaded when it changed) over `labels`; no style without a palette.
+    render::RenderStyle tints(const FrameRequest& request, const vk::Buffer& labels);
     FramePicture render_preview(const FrameRequest& request, bool labelled, std::chrono::steady_clock::time_point t0);
 
     vk::Context& ctx_;
