@@ -48,20 +48,27 @@ FramePicture FrameEngine::render(const FrameRequest& rq) {
     FramePicture out;
     out.id = rq.id;
     out.camera = rq.camera;
+    out.preview = rq.preview && preview_;
     const bool labelled = rq.labels && rq.labels->size() == scene_.size();
-    if (rq.preview && preview_) return render_preview(rq, labelled, t0);
-    if (labelled && rq.labels_version != labels_version_) {
+    if (labelled && !out.preview && rq.labels_version != labels_version_) {
         labels_ = vk::upload_vector(ctx_, *rq.labels, "viewer labels");
         // One upload for both: object ids are >= 0, so the style's int32 and the mask's uint32 agree.
         masks_ = std::make_unique<seg::MaskViews>(ctx_, scene_, labels_);
         labels_version_ = rq.labels_version;
     }
-    const render::RenderStyle style = labelled ? tints(rq, labels_) : render::RenderStyle{};
-    renderer_.render(scene_, rq.camera, rq.settings, style.labels ? &style : nullptr);
+    if (labelled && out.preview && rq.labels_version != preview_labels_version_) {
+        std::vector<int32_t> sub(preview_ids_->size());
+        for (size_t i = 0; i < sub.size(); ++i) sub[i] = (*rq.labels)[(*preview_ids_)[i]];
+        preview_labels_ = vk::upload_vector(ctx_, sub, "viewer preview labels");
+        preview_labels_version_ = rq.labels_version;
+    }
+    const render::RenderStyle style =
+        labelled ? tints(rq, out.preview ? preview_labels_ : labels_) : render::RenderStyle{};
+    renderer_.render(out.preview ? *preview_ : scene_, rq.camera, rq.settings, style.labels ? &style : nullptr);
     for (auto& t : renderer_.timings()) out.render_ms += t.ms;
     const int w = renderer_.width(), h = renderer_.height();
     const vk::Buffer* mask = nullptr;
-    if (rq.mask && labelled && masks_) {
+    if (rq.mask && labelled && masks_ && !out.preview) {
         seg::MaskViewsOptions mo;
         mo.render = rq.settings;
         const auto before = masks_->stage_ms();
@@ -73,41 +80,17 @@ FramePicture FrameEngine::render(const FrameRequest& rq) {
         for (auto& [name, ms] : masks_->stage_ms()) out.mask_ms += ms - (before.count(name) ? before.at(name) : 0.0);
         out.mask = true;
     }
+    // A preview's pick ids are the preview's Gaussians: it gives no object ids.
+    const bool objects = labelled && !out.preview;
     auto pixels = free_pixels();
     cmd_.begin_pass("overlay");
     passes_.overlay(cmd_, renderer_.image_buffer(), mask, style.palette, style.palette_size, w, h, pixels->rgba);
-    if (labelled) passes_.objects(cmd_, renderer_, labels_, pixels->object);  // for picking objects by pointing at them
+    if (objects) passes_.objects(cmd_, renderer_, labels_, pixels->object);  // for picking objects by pointing at them
     cmd_.end_pass();
     cmd_.submit_and_wait();
     out.overlay_ms = cmd_.total_ms();
     out.rgba = std::shared_ptr<const vk::Buffer>(pixels, &pixels->rgba);
-    if (labelled) out.object = std::shared_ptr<const vk::Buffer>(pixels, &pixels->object);
-    out.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    return out;
-}
-
-FramePicture FrameEngine::render_preview(const FrameRequest& rq, bool labelled, std::chrono::steady_clock::time_point t0) {
-    FramePicture out;
-    out.id = rq.id;
-    out.camera = rq.camera;
-    out.preview = true;
-    if (labelled && rq.labels_version != preview_labels_version_) {
-        std::vector<int32_t> sub(preview_ids_->size());
-        for (size_t i = 0; i < sub.size(); ++i) sub[i] = (*rq.labels)[(*preview_ids_)[i]];
-        preview_labels_ = vk::upload_vector(ctx_, sub, "viewer preview labels");
-        preview_labels_version_ = rq.labels_version;
-    }
-    const render::RenderStyle style = labelled ? tints(rq, preview_labels_) : render::RenderStyle{};
-    renderer_.render(*preview_, rq.camera, rq.settings, style.labels ? &style : nullptr);
-    for (auto& t : renderer_.timings()) out.render_ms += t.ms;
-    auto pixels = free_pixels();
-    cmd_.begin_pass("overlay");
-    passes_.overlay(cmd_, renderer_.image_buffer(), nullptr, style.palette, style.palette_size, renderer_.width(),
-                    renderer_.height(), pixels->rgba);
-    cmd_.end_pass();
-    cmd_.submit_and_wait();
-    out.overlay_ms = cmd_.total_ms();
-    out.rgba = std::shared_ptr<const vk::Buffer>(pixels, &pixels->rgba);
+    if (objects) out.object = std::shared_ptr<const vk::Buffer>(pixels, &pixels->object);
     out.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return out;
 }

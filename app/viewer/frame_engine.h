@@ -3,7 +3,6 @@
 // tints (hidden objects culled) and, when asked, the refined 2D mask of every visible object
 // outlined on top, exactly as the exported overlays draw it. The picture stays on the device:
 // the presenter copies it into the window's image.
-#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -56,7 +55,6 @@ private:
     std::shared_ptr<Pixels> free_pixels();
     // The request's palette (uploaded when it changed) over `labels`; no style without a palette.
     render::RenderStyle tints(const FrameRequest& request, const vk::Buffer& labels);
-    FramePicture render_preview(const FrameRequest& request, bool labelled, std::chrono::steady_clock::time_point t0);
 
     vk::Context& ctx_;
     const render::GpuScene& scene_;

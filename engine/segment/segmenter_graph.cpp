@@ -45,10 +45,8 @@ std::vector<uint8_t> seeded_components(const std::vector<uint32_t>& root, const 
 
 // Per node: whether its connected component holds a seed, a prior or a coarse start (the
 // coarse graph, sparser, joins what the fine kNN graph splits); counts the others.
-std::vector<uint8_t> reached_components(const KnnGraph& graph, const std::vector<uint32_t>& nbr, const WalkProblem& pr,
-                                        GraphReport& report) {
-    const uint32_t n = graph.nodes();
-    const auto root = component_roots(graph, nbr);
+std::vector<uint8_t> reached_components(const std::vector<uint32_t>& root, const WalkProblem& pr, GraphReport& report) {
+    const uint32_t n = uint32_t(root.size());
     auto find = [&](uint32_t i) { return root[i]; };
     std::vector<uint8_t> root_reached(n, 0), seen(n, 0), reached(n, 0);
     auto started = [&](uint32_t i) {
@@ -285,21 +283,24 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
                     it != last_solution_.end() ? it->second[i] : (pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l]);
         }
     }
+    const auto root = component_roots(graph_, nbr);
     if (!warm && o.coarse_stride > 1 && nodes >= 64 * o.coarse_stride) {
         auto t1 = Clock::now();
-        pr.start = coarse_start(o, domain, pr);
-        if (o.walk.preconditioner == WalkPreconditioner::Multigrid) {
-            // Multigrid needs no head start where seeds or priors reach (its coarse levels carry
-            // the far-reaching part, and the coarse answer's roughness costs it iterations):
-            // there it starts from the prior. The coarse start stays where the fine graph's
-            // component has nothing to start from, which only the coarse graph joins to the rest.
-            const auto seeded = seeded_components(component_roots(graph_, nbr), pr);
-            for (uint32_t i = 0; i < nodes; ++i)
+        // Multigrid needs no head start where seeds or priors reach (its coarse levels carry
+        // the far-reaching part, and the coarse answer's roughness costs it iterations): there
+        // it starts from the prior. The coarse start stays where the fine graph's component has
+        // nothing to start from, which only the coarse graph joins to the rest; with every
+        // component seeded the coarse solve is not run at all.
+        const bool multigrid = o.walk.preconditioner == WalkPreconditioner::Multigrid;
+        const auto seeded = multigrid ? seeded_components(root, pr) : std::vector<uint8_t>{};
+        if (!multigrid || std::count(seeded.begin(), seeded.end(), 0) > 0) {
+            pr.start = coarse_start(o, domain, pr);
+            for (uint32_t i = 0; multigrid && i < nodes; ++i)
                 if (seeded[i])
                     for (uint32_t l = 0; l < labels; ++l)
                         pr.start[size_t(i) * labels + l] = pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l];
+            result.stage_ms["graph coarse start"] += ms_since(t1);
         }
-        result.stage_ms["graph coarse start"] += ms_since(t1);
     }
     auto solution = walker_.solve(graph_, pr, o.walk);
     last_solution_.clear();
@@ -318,7 +319,7 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
     report.residual = solution.residual;
     // A component of the graph with no seed, prior or coarse start has no answer (its system is
     // singular and keeps whatever it started from): it stays unlabelled and is counted.
-    const auto reached = reached_components(graph_, nbr, pr, report);
+    const auto reached = reached_components(root, pr, report);
     // Each reached node's most likely label and its share of the probability.
     std::vector<int32_t> arg(nodes, -1);
     std::vector<float> share(nodes, 0.0f);
@@ -375,7 +376,7 @@ void Segmenter::solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>
     WalkProblem seeds_only;
     seeds_only.labels = labels;
     seeds_only.seed = std::move(seed);
-    reached_components(graph_, nbr, seeds_only, report);
+    reached_components(component_roots(graph_, nbr), seeds_only, report);
     for (uint32_t i = 0; i < nodes; ++i)
         if (forest.label[i] > 0) objects[size_t(forest.label[i]) - 1]->claims.push_back({domain[i], 1.0f});
     result.graph = report;
