@@ -8,17 +8,26 @@
 shared vec4 s_dot[kWalkVecs][kGraphGroup];
 
 // Every invocation of the group calls this (barriers inside) with its node's terms (0 if none);
-// a tree reduction, then partials[group * kWalkVecs + c].
+// then partials[group * kWalkVecs + c]. Two raking steps rather than a tree: CPU Vulkan runs
+// every invocation through every stretch between barriers, so each barrier costs a whole pass
+// over the group (a tree's eight made the reduction cost more than the sparse product).
+shared vec4 s_rake[kWalkVecs][16];
 #define WALK_STORE_PARTIALS(terms, partials)                                                      \
     {                                                                                             \
         uint t_ = gl_LocalInvocationIndex;                                                        \
         for (uint c_ = 0u; c_ < kWalkVecs; ++c_) s_dot[c_][t_] = terms[c_];                       \
         barrier();                                                                                \
-        for (uint stride_ = kGraphGroup / 2u; stride_ > 0u; stride_ >>= 1) {                      \
-            if (t_ < stride_)                                                                     \
-                for (uint c_ = 0u; c_ < kWalkVecs; ++c_) s_dot[c_][t_] += s_dot[c_][t_ + stride_]; \
-            barrier();                                                                            \
+        if (t_ < 16u * kWalkVecs) {                                                               \
+            uint c_ = t_ / 16u, q_ = (t_ % 16u) * 16u;                                            \
+            vec4 sum_ = vec4(0.0);                                                                \
+            for (uint u_ = 0u; u_ < 16u; ++u_) sum_ += s_dot[c_][q_ + u_];                        \
+            s_rake[c_][t_ % 16u] = sum_;                                                          \
         }                                                                                         \
-        if (t_ < kWalkVecs) partials[pg_group_index() * kWalkVecs + t_] = s_dot[t_][0];           \
+        barrier();                                                                                \
+        if (t_ < kWalkVecs) {                                                                     \
+            vec4 sum_ = vec4(0.0);                                                                \
+            for (uint u_ = 0u; u_ < 16u; ++u_) sum_ += s_rake[t_][u_];                            \
+            partials[pg_group_index() * kWalkVecs + t_] = sum_;                                   \
+        }                                                                                         \
     }
 #endif
