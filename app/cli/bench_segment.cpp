@@ -27,7 +27,7 @@ namespace {
 struct BenchSegmentArgs {
     std::string scene, cameras, prompts, mode = "occlusion", label_property = "instance", decoder = "ptv3";
     int repeats = 5;
-    bool json = false;
+    bool json = false, coarse_answer = false;
     DeviceOptions device;
 };
 
@@ -68,6 +68,13 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     seg::SegmentOptions o;
     o.up = data::up_from_cameras(cameras);
     o.graph = graph;
+    // The viewer's path: a cold solve first hands over the coarse graph's answer.
+    auto t0 = std::chrono::steady_clock::now();
+    double coarse_ms = -1;
+    if (a.coarse_answer)
+        o.on_coarse = [&](const seg::SegmentResult&) {
+            if (coarse_ms < 0) coarse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        };
 
     // The masks are timed in the first click's view (the first camera for a click given in 3D).
     const auto& click = one.objects.front().clicks.front();
@@ -81,7 +88,7 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     std::map<std::string, double> cold_stage_ms;
     seg::SegmentResult result;
     for (int r = 0; r < a.repeats + 1; ++r) {  // the first run warms pipelines and buffers up
-        auto t0 = std::chrono::steady_clock::now();
+        t0 = std::chrono::steady_clock::now();
         try {
             result = segmenter.segment(one, o);
         } catch (const data::InputError& e) {
@@ -121,6 +128,7 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     j["objects"] = one.objects.size();
     j["first_click_wall_ms"] = cold_ms;  // the first run: pipelines, buffers, the graph built, a cold solve
     for (auto& [k, v] : cold_stage_ms) j["first_click_ms"][k] = v;
+    if (coarse_ms >= 0) j["first_click_coarse_answer_ms"] = coarse_ms;
     for (auto& [k, v] : view_ms) j["view_gpu_ms"][k] = median(v);
     j["view_wall_ms"] = median(view_total);
     if (a.json) {
@@ -133,7 +141,12 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     // The first run (cold: pipelines, buffers, the graph built, a solve from scratch) beside the
     // repeats' medians (warm: what a further click on the same objects costs).
     std::printf("| one click (wall ms) | repeated (median) | first |\n|---|---:|---:|\n");
-    for (auto& [k, v] : click_ms) std::printf("| %s | %.2f | %.2f |\n", k.c_str(), median(v), cold_stage_ms[k]);
+    for (auto& [k, v] : cold_stage_ms) click_ms[k];  // stages only the first run has (a coarse start)
+    for (auto& [k, v] : click_ms) {
+        if (v.empty()) std::printf("| %s | - | %.2f |\n", k.c_str(), cold_stage_ms[k]);
+        else std::printf("| %s | %.2f | %.2f |\n", k.c_str(), median(v), cold_stage_ms[k]);
+    }
+    if (coarse_ms >= 0) std::printf("| coarse answer shown (viewer) | - | %.2f |\n", coarse_ms);
     std::printf("| **total** | %.2f | %.2f |\n\n", median(click_total), cold_ms);
     std::printf("| masks of one view (GPU ms) | median |\n|---|---:|\n");
     for (auto& [k, v] : view_ms) std::printf("| %s | %.2f |\n", k.c_str(), median(v));
@@ -155,6 +168,8 @@ void register_bench_segment(CLI::App& bench, std::function<void()>& run) {
     cmd->add_option("--label-property", a->label_property, "Property the ground-truth decoder reads")
         ->capture_default_str();
     cmd->add_flag("--json", a->json, "Print JSON instead of tables");
+    cmd->add_flag("--coarse-answer", a->coarse_answer,
+                  "Graph decoders: time the viewer's path, where a cold solve first hands over the coarse graph's answer");
     add_device_option(*cmd, a->device);
     add_memory_option(*cmd, a->device);
     cmd->callback([a, &run] { run = [a] { run_bench_segment(*a); }; });

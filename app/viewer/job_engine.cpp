@@ -51,11 +51,12 @@ seg::Segmenter& JobEngine::segmenter(const std::string& network) {
     return *s;
 }
 
-SegmentOutcome JobEngine::segment(const SegmentJob& job, std::map<std::string, double>& stage_ms) {
+SegmentOutcome JobEngine::segment(const SegmentJob& job, std::map<std::string, double>& stage_ms,
+                                  const std::atomic<bool>* cancel, const std::function<void(SegmentOutcome)>& coarse) {
     const std::string network = job.decoder == "ground-truth" ? "ground-truth"
                                 : job.decoder == "graph"      ? std::string()
                                                               : scene_.model;
-    return segment_job(segmenter(network), job, scene_.options, stage_ms);
+    return segment_job(segmenter(network), job, scene_.options, stage_ms, cancel, coarse);
 }
 
 void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::atomic<size_t>& total,

@@ -45,7 +45,10 @@ public:
     // A prompts.json click (in a view of the scene, or a 3D point) -> where it lands.
     seg::Anchor anchor(const data::PromptClick& click);
     // The job's objects, as `segment` computes them for those objects of prompts.json.
-    SegmentOutcome segment(const SegmentJob& job, std::map<std::string, double>& stage_ms);
+    // `cancel` and `coarse`: see segment_job.
+    SegmentOutcome segment(const SegmentJob& job, std::map<std::string, double>& stage_ms,
+                           const std::atomic<bool>* cancel = nullptr,
+                           const std::function<void(SegmentOutcome)>& coarse = {});
     // Writes the chosen outputs; progress counts mask views.
     void write(const ExportRequest& request, std::atomic<size_t>& done, std::atomic<size_t>& total,
                const std::atomic<bool>& cancel);

@@ -196,7 +196,9 @@ void Viewer::draw_timings_panel() {
             for (auto& [name, ms] : segment_ms_) timing_row(("  " + name).c_str(), ms);
         }
         const bool working = jobs_->busy() || session_.in_flight();
-        if (working) ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "working...");
+        if (working)
+            ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1),
+                               session_.showing_coarse() ? "coarse answer shown; refining..." : "working...");
     }
 }
 

@@ -1,5 +1,6 @@
 #include "app/viewer/session.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
@@ -32,17 +33,34 @@ seg::GraphUse decoder_graph_use(const std::string& decoder) {
 
 bool decoder_is_joint(const std::string& decoder) { return decoder_graph_use(decoder) != seg::GraphUse::None; }
 
-SegmentOutcome segment_job(seg::Segmenter& segmenter, const SegmentJob& job, seg::SegmentOptions options,
-                           std::map<std::string, double>& stage_ms) {
-    options.graph = decoder_graph_use(job.decoder);
-    if (job.prompts.objects.size() == 1) options.seed += job.index;  // `segment` partitions object k with seed + k
-    auto result = segmenter.segment(job.prompts, options, job.anchors);
-    stage_ms = result.stage_ms;
+namespace {
+
+SegmentOutcome outcome_of(seg::SegmentResult result) {
     SegmentOutcome outcome;
     for (auto& o : result.objects)
         if (o.error.empty()) outcome.results.push_back(std::move(o));
         else outcome.errors[o.id] = o.error;
     return outcome;
+}
+
+}  // namespace
+
+SegmentOutcome segment_job(seg::Segmenter& segmenter, const SegmentJob& job, seg::SegmentOptions options,
+                           std::map<std::string, double>& stage_ms, const std::atomic<bool>* cancel,
+                           const std::function<void(SegmentOutcome)>& coarse) {
+    options.graph = decoder_graph_use(job.decoder);
+    if (job.prompts.objects.size() == 1) options.seed += job.index;  // `segment` partitions object k with seed + k
+    options.cancel = cancel;
+    if (coarse) options.on_coarse = [&](const seg::SegmentResult& r) { coarse(outcome_of(r)); };
+    try {
+        auto result = segmenter.segment(job.prompts, options, job.anchors);
+        stage_ms = result.stage_ms;
+        return outcome_of(std::move(result));
+    } catch (const seg::Cancelled&) {
+        SegmentOutcome outcome;
+        outcome.cancelled = true;
+        return outcome;
+    }
 }
 
 void Session::sync(const Document& doc, const std::string& decoder) {
@@ -78,14 +96,40 @@ std::optional<SegmentJob> Session::next_job() {
     for (size_t k = 0; k < prompts_.objects.size(); ++k) {
         if (cached(k)) continue;
         in_flight_ = true;
-        if (joint_) return SegmentJob{prompts_, anchors_, 0, decoder_, joint_signature_};
-        return SegmentJob{{{prompts_.objects[k]}}, {anchors_[k]}, k, decoder_, signatures_[k]};
+        coarse_.reset();
+        if (joint_) flying_ = SegmentJob{prompts_, anchors_, 0, decoder_, joint_signature_};
+        else flying_ = SegmentJob{{{prompts_.objects[k]}}, {anchors_[k]}, k, decoder_, signatures_[k]};
+        return flying_;
     }
     return std::nullopt;
 }
 
+bool Session::in_flight_stale() const {
+    if (!in_flight_) return false;
+    if (decoder_is_joint(flying_.decoder)) return !joint_ || flying_.signature != joint_signature_;
+    return std::find(signatures_.begin(), signatures_.end(), flying_.signature) == signatures_.end();
+}
+
+bool Session::in_flight_covers(int id) const {
+    if (!in_flight_) return false;
+    for (auto& o : flying_.prompts.objects)
+        if (o.id == id) return true;
+    return false;
+}
+
+void Session::store_coarse(const SegmentJob& job, SegmentOutcome outcome) {
+    if (!in_flight_ || job.signature != flying_.signature) return;
+    coarse_ = Cached{job.signature, std::move(outcome)};
+    assemble();
+}
+
 void Session::store(const SegmentJob& job, SegmentOutcome outcome) {
     in_flight_ = false;
+    coarse_.reset();
+    if (outcome.cancelled) {
+        assemble();
+        return;
+    }
     const bool joint = decoder_is_joint(job.decoder);
     if (!joint && job.prompts.objects.size() != 1) throw std::logic_error("Session::store: a one-object job expected");
     auto& results = cache_[joint ? kJoint : job.prompts.objects.front().id];
@@ -119,15 +163,24 @@ const std::string& Session::error(int id) const {
 
 void Session::assemble() {
     // The current results, object by object in prompts.json order.
+    // An object with no result for its present clicks shows the job in flight's coarse answer
+    // when that job is for those clicks.
     std::string key;
     std::vector<const seg::ObjectResult*> current;
-    for (size_t k = 0; k < prompts_.objects.size(); ++k)
-        if (const SegmentOutcome* c = cached(k))
-            for (const auto& r : c->results)
-                if (r.id == prompts_.objects[k].id) {
-                    current.push_back(&r);
-                    key += std::to_string(r.id) + ":" + (joint_ ? joint_signature_ : signatures_[k]) + ";";
-                }
+    showing_coarse_ = false;
+    for (size_t k = 0; k < prompts_.objects.size(); ++k) {
+        const std::string& sig = joint_ ? joint_signature_ : signatures_[k];
+        const SegmentOutcome* c = cached(k);
+        const bool coarse = !c && coarse_ && coarse_->signature == sig;
+        if (coarse) c = &coarse_->outcome;
+        if (!c) continue;
+        for (const auto& r : c->results)
+            if (r.id == prompts_.objects[k].id) {
+                current.push_back(&r);
+                showing_coarse_ = showing_coarse_ || coarse;
+                key += std::to_string(r.id) + (coarse ? "~" : ":") + sig + ";";
+            }
+    }
     if (key == assembled_) return;
     assembled_ = key;
     seg::SegmentResult result;

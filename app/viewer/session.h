@@ -8,7 +8,9 @@
 // The network alone (`ptv3`, `ground-truth`) segments object by object: a click re-segments
 // its own object only. The graph decoders (`graph`, `ptv3+graph`) solve every object at once,
 // since each object's clicks are the others' negatives: any click re-solves them all.
+#include <atomic>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -39,11 +41,15 @@ struct SegmentOutcome {
     std::vector<seg::ObjectResult> results;  // the job's objects that were segmented
     std::map<int, std::string> errors;       // object id -> why it has no result
     std::string error;                       // why the whole job failed
+    bool cancelled = false;                  // stopped by a newer click: no result at all
 };
 
 // Runs `job` through `segmenter` exactly as `segment` computes those objects of prompts.json.
+// `cancel` (may be null) stops it (seg::Cancelled); `coarse`, if given, receives a graph
+// decoder's coarse answer before its cold solve.
 SegmentOutcome segment_job(seg::Segmenter& segmenter, const SegmentJob& job, seg::SegmentOptions options,
-                           std::map<std::string, double>& stage_ms);
+                           std::map<std::string, double>& stage_ms, const std::atomic<bool>* cancel = nullptr,
+                           const std::function<void(SegmentOutcome)>& coarse = {});
 
 class Session {
 public:
@@ -55,8 +61,16 @@ public:
     // The next segmentation whose result is not cached for the present clicks; none while a job
     // is out (one at a time, so results arrive in order).
     std::optional<SegmentJob> next_job();
+    // The job's result (a cancelled one is dropped: the job is handed out again if still wanted).
     void store(const SegmentJob& job, SegmentOutcome outcome);
+    // A coarse answer for the job in flight: shown for its objects until its result is stored.
+    void store_coarse(const SegmentJob& job, SegmentOutcome outcome);
     bool in_flight() const { return in_flight_; }
+    // The job in flight no longer matches the document's clicks (its result would not be shown).
+    bool in_flight_stale() const;
+    // The job in flight segments object `id` (a new click on it makes the job stale).
+    bool in_flight_covers(int id) const;
+    bool showing_coarse() const { return showing_coarse_; }  // labels() holds a coarse answer
     bool settled() const;  // nothing out and every object's result current
 
     // Object id per Gaussian from every current result (a Gaussian claimed twice goes to the
@@ -89,6 +103,9 @@ private:
     std::string joint_signature_;          // all of them
     std::map<int, std::vector<Cached>> cache_;  // per object id (kJoint: joint solves), newest last
     bool in_flight_ = false;
+    SegmentJob flying_;                    // the job in flight (its prompts, decoder and signature)
+    std::optional<Cached> coarse_;         // its coarse answer, if one came
+    bool showing_coarse_ = false;
     std::string assembled_;  // which results labels_ holds
     std::shared_ptr<const std::vector<int32_t>> labels_;
     uint64_t labels_version_ = 0;

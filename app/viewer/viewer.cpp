@@ -329,6 +329,10 @@ void Viewer::click_at(double x, double y, bool positive) {
         prompt.u = u;
         prompt.v = v;
     }
+    // The lift waits on the job thread behind a segmentation in flight: one this click makes
+    // pointless (a joint solve, or its own object's) stops now.
+    if (session_.in_flight() && (decoder_is_joint(decoder_) || session_.in_flight_covers(doc_.state().selected)))
+        cancel_segmentation();
     jobs_->post([this, cam, u, v, prompt]() mutable {
         const auto t0 = Clock::now();
         try {
@@ -402,22 +406,34 @@ void Viewer::save_picture(const std::string& png) const {
 // ---------------------------------------------------------------------------------------------
 // Segmentation: the session decides what each job covers (one object, or all for the graph).
 
+void Viewer::cancel_segmentation() {
+    if (segment_cancel_) segment_cancel_->store(true);
+}
+
 void Viewer::update_segmentation() {
     session_.sync(doc_, decoder_);
+    if (session_.in_flight_stale()) cancel_segmentation();  // an undo, a deletion, another decoder
     auto job = session_.next_job();
     if (!job) return;
-    jobs_->post([this, job = *job] {
+    auto cancel = std::make_shared<std::atomic<bool>>(false);
+    segment_cancel_ = cancel;
+    jobs_->post([this, job = *job, cancel] {
         SegmentOutcome outcome;
         std::map<std::string, double> ms;
         const auto t0 = Clock::now();
+        // A cold graph solve's coarse answer is shown while the full one runs.
+        auto coarse = [this, job](SegmentOutcome answer) {
+            inbox_.post([this, job, answer = std::move(answer)]() mutable { session_.store_coarse(job, std::move(answer)); });
+        };
         try {
-            outcome = job_engine_->segment(job, ms);
+            outcome = job_engine_->segment(job, ms, cancel.get(), coarse);
         } catch (const std::exception& e) {
             outcome.error = e.what();
         }
         const double wall = ms_between(t0, Clock::now());
         inbox_.post([this, job, outcome, ms, wall] {
             session_.store(job, outcome);
+            if (outcome.cancelled) return;
             if (!outcome.error.empty()) status("segmentation failed: " + outcome.error, true);
             else if (!outcome.errors.empty()) status("segmentation failed: " + outcome.errors.begin()->second, true);
             else segment_ms_ = ms, segment_wall_ms_ = wall;

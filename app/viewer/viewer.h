@@ -75,6 +75,7 @@ private:
     void load_in_window(const ViewerOptions& options);
     void load_prompts(const std::string& path);
     void update_segmentation();
+    void cancel_segmentation();  // the job in flight stops at its next check
     void request_frame();
     FrameRequest frame_request(bool still) const;
     std::vector<glm::vec4> palette() const;
@@ -125,6 +126,7 @@ private:
     Session session_;
     std::vector<std::string> decoders_;
     std::string decoder_;
+    std::shared_ptr<std::atomic<bool>> segment_cancel_;  // the job in flight's
     std::map<std::string, double> segment_ms_;
     double segment_wall_ms_ = 0, lift_ms_ = 0;
 

@@ -229,6 +229,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
             // The hierarchy needs walk_edges' arrays (the same for every column batch).
             cmd_.submit_and_wait();
             for (auto& t : cmd_.timings()) timings_.push_back(t);
+            stop_if_cancelled(o.cancel);
             multigrid = build_hierarchy(graph, pr.seed, gamma, most_width, o, out);
         }
         if (multigrid) {
@@ -269,6 +270,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
             }
             cmd_.submit_and_wait();
             for (auto& t : cmd_.timings()) timings_.push_back(t);
+            stop_if_cancelled(o.cancel);
             auto s = vk::download_vector<gpu::WalkScalars>(ctx_, scalars_, labels);
             if (multigrid) {
                 const auto c = vk::download_vector<gpu::WalkScalars>(ctx_, check_, labels);

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/segment/cancel.h"
 #include "engine/segment/knn_graph.h"
 #include "engine/segment/walk_hierarchy.h"
 
@@ -33,6 +34,7 @@ struct WalkOptions {
     WalkPreconditioner preconditioner = WalkPreconditioner::Multigrid;
     float coarse_scale = 1.0f;      // multigrid: the coarse correction's scale
     HierarchyOptions hierarchy;
+    const std::atomic<bool>* cancel = nullptr;  // set: the solve stops (Cancelled) at its next check
 };
 
 struct WalkResult {

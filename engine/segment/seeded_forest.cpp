@@ -52,6 +52,7 @@ ForestResult SeededForest::solve(const KnnGraph& graph, const std::vector<int32_
             cmd_.end_pass();
             cmd_.submit_and_wait();
             for (auto& t : cmd_.timings()) timings_.push_back(t);
+            stop_if_cancelled(o.cancel);
             auto changed = vk::download_vector<uint32_t>(ctx_, changed_, rounds);
             for (uint32_t r = 0; r < rounds && !out.converged; ++r) {
                 ++out.rounds;

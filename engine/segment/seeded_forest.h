@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/segment/cancel.h"
 #include "engine/segment/knn_graph.h"
 
 namespace pg::seg {
@@ -15,6 +16,7 @@ namespace pg::seg {
 struct ForestOptions {
     uint32_t max_rounds = 4000;
     uint32_t check_every = 32;   // rounds between the host's looks at the change counts
+    const std::atomic<bool>* cancel = nullptr;  // set: the solve stops (Cancelled) at its next look
 };
 
 struct ForestResult {

@@ -78,7 +78,9 @@ Anchor Segmenter::anchor_for(const data::PromptClick& click, const SegmentOption
     return a;
 }
 
-SegmentResult Segmenter::segment(const data::Prompts& prompts, const SegmentOptions& o, const LiftedClicks& lifted) {
+SegmentResult Segmenter::segment(const data::Prompts& prompts, const SegmentOptions& options, const LiftedClicks& lifted) {
+    SegmentOptions o = options;
+    o.walk.cancel = o.forest.cancel = o.cancel;
     if (o.graph != GraphUse::Alone && !decoder_)
         throw data::InputError("decoder", std::string(graph_use_name(o.graph)) + " needs a network model");
     SegmentResult result;
@@ -93,6 +95,7 @@ SegmentResult Segmenter::segment(const data::Prompts& prompts, const SegmentOpti
         obj.name = prompt.name;
         std::vector<uint32_t> roi;
         std::vector<float> p;
+        stop_if_cancelled(o.cancel);
         try {
             const bool given = k < lifted.size() && lifted[k].size() == prompt.clicks.size();
             prepare(prompt, k, given ? &lifted[k] : nullptr, o, obj, p, roi, result);
@@ -112,6 +115,7 @@ SegmentResult Segmenter::segment(const data::Prompts& prompts, const SegmentOpti
     }
     for (auto& obj : result.objects)
         if (obj.error.empty()) solved.push_back(&obj);
+    stop_if_cancelled(o.cancel);
     if (o.graph != GraphUse::None && !solved.empty()) solve_graph(o, solved, rois, probabilities, result);
     result.assemble(cloud_.size());
     return result;
@@ -159,6 +163,7 @@ void Segmenter::prepare(const data::ObjectPrompt& prompt, size_t index, const st
     t0 = Clock::now();
     roi_probability.assign(roi.size(), 0.0f);
     for (const auto& batch_slots : batches) {
+        stop_if_cancelled(o.cancel);
         DecoderBatch batch;
         batch.frame = data::RoiFrame::around(first.position, o.up, scale);
         for (auto& a : obj.anchors)

@@ -6,6 +6,7 @@
 // With a graph decoder (see GraphUse) all objects are then solved together by a random walk
 // over the Gaussians' kNN graph. An object whose clicks cannot be lifted (or whose ROI is
 // empty) fails alone: its error is kept and the others are segmented.
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -15,6 +16,7 @@
 #include "dataset/gaussian_cloud.h"
 #include "dataset/prompts.h"
 #include "engine/render/renderer.h"
+#include "engine/segment/cancel.h"
 #include "engine/segment/decoder.h"
 #include "engine/segment/knn_graph.h"
 #include "engine/segment/prompt_encoder.h"
@@ -40,6 +42,8 @@ const char* graph_solver_name(GraphSolver solver);
 GraphUse parse_graph_use(const std::string& name, const std::string& option = "decoder");
 const char* graph_use_name(GraphUse use);
 
+struct SegmentResult;
+
 struct SegmentOptions {
     glm::dvec3 up{0, -1, 0};     // the scene's up axis (see dataset/up_axis.h)
     double scale = 0;            // typical object size in scene units; 0: from the cameras
@@ -62,6 +66,13 @@ struct SegmentOptions {
     uint32_t coarse_stride = 8;   // walk: a first solve on every n-th node starts the fine one (1: none);
                                   // with multigrid only where the fine graph's component holds no seed
                                   // or prior (what the coarse graph joins to the rest and labels)
+    // Set (by another thread): segment() stops with Cancelled at its next check (between objects,
+    // network batches, walk checks and forest rounds). The viewer's newer click does this.
+    const std::atomic<bool>* cancel = nullptr;
+    // Called with a coarse answer before a walk's cold solve (no warm start on this graph): the
+    // coarse graph's solution (see coarse_stride) carried to every node by its nearest coarse
+    // node. What the viewer shows while the full solve runs; the final result does not change.
+    std::function<void(const SegmentResult&)> on_coarse;
 };
 
 struct ObjectResult {
@@ -138,8 +149,13 @@ private:
                      const std::vector<std::vector<uint32_t>>& rois, const std::vector<std::vector<float>>& probabilities,
                      SegmentResult& result);
     // Each click seeds its nearest node and that node's neighbours with its object's label.
-    void seed_clicks(const std::vector<ObjectResult*>& objects, const GraphDomain& d, const std::vector<uint32_t>& nbr,
-                     WalkProblem& pr) const;
+    // (With `nbr` null: the nearest nodes alone; `cell`: the node grid's cell side.)
+    void seed_clicks(const std::vector<ObjectResult*>& objects, const GraphDomain& d, const std::vector<uint32_t>* nbr,
+                     float cell, WalkProblem& pr) const;
+    // The coarse answer before the fine graph is built, where the options want one and the
+    // decoder allows it (graph alone, a walk); false if it was not given.
+    bool early_coarse_answer(const SegmentOptions& o, const std::vector<ObjectResult*>& objects, const GraphDomain& d,
+                             SegmentResult& result);
     // ptv3+graph: the networks' confident probabilities as unary terms (and which networks are trusted).
     void network_prior(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                        const std::vector<std::vector<uint32_t>>& rois,
@@ -150,6 +166,10 @@ private:
     // The same problem by widest paths: the seeds, plus the network's confident labels.
     void solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>& objects, const std::vector<uint32_t>& domain,
                       const std::vector<uint32_t>& neighbours, const WalkProblem& problem, SegmentResult& result);
+    // Hands options.on_coarse the objects' labels from a coarse solution `x` over `domain`.
+    void coarse_answer(const SegmentOptions& o, const std::vector<ObjectResult*>& objects,
+                       const std::vector<uint32_t>& domain, const std::vector<float>& x, uint32_t labels,
+                       const SegmentResult& so_far) const;
     // A starting point for the fine solve from the same problem on a subset of the nodes.
     std::vector<float> coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine);
     Anchor anchor_for(const data::PromptClick& click, const SegmentOptions& o, const std::string& what);

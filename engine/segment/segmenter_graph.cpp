@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "dataset/clicks/point_grid.h"
 #include "engine/vk/context.h"
@@ -157,9 +158,14 @@ std::vector<float> Segmenter::coarse_start(const SegmentOptions& o, const std::v
 void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                             const std::vector<std::vector<uint32_t>>& rois,
                             const std::vector<std::vector<float>>& probabilities, SegmentResult& result) {
-    auto t0 = Clock::now();
     const GraphDomain d = graph_domain(cloud_, objects, rois, o.graph_margin);
-    if (d.domain != graph_domain_ || !(o.graph_options == graph_built_with_)) {
+    const bool rebuild = d.domain != graph_domain_ || !(o.graph_options == graph_built_with_);
+    // A cold solve's coarse answer, if wanted, comes first (then not again in solve_walk).
+    SegmentOptions rest = o;
+    if (rebuild && early_coarse_answer(o, objects, d, result)) rest.on_coarse = nullptr;
+    stop_if_cancelled(o.cancel);
+    auto t0 = Clock::now();
+    if (rebuild) {
         graph_.build(scene_, cloud_, d.domain, o.graph_options);
         graph_domain_ = d.domain;
         graph_built_with_ = o.graph_options;
@@ -176,15 +182,15 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     for (uint32_t i = 0; i < nodes; ++i)
         if (!d.in_roi[i]) pr.seed[i] = 0;
     const auto nbr = graph_.neighbours();
-    seed_clicks(objects, d, nbr, pr);
+    seed_clicks(objects, d, &nbr, graph_.cell_side(), pr);
     if (o.graph == GraphUse::Unary) network_prior(o, objects, rois, probabilities, d, pr);
     if (o.solver == GraphSolver::Forest) solve_forest(o, objects, d.domain, nbr, pr, result);
-    else solve_walk(o, objects, d.domain, nbr, pr, result);
+    else solve_walk(rest, objects, d.domain, nbr, pr, result);
     result.stage_ms["graph solve"] += ms_since(t0);
 }
 
 void Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const GraphDomain& d,
-                            const std::vector<uint32_t>& nbr, WalkProblem& pr) const {
+                            const std::vector<uint32_t>* nbr, float cell, WalkProblem& pr) const {
     const uint32_t nodes = uint32_t(d.domain.size());
     const std::vector<int32_t>& node_of = d.node_of;
     // A click seeds the Gaussian whose centre is nearest to its 3D point and that Gaussian's graph
@@ -195,7 +201,7 @@ void Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const Gra
     std::vector<glm::vec3> node_pos(nodes);
     std::vector<uint32_t> all_nodes(nodes);
     for (uint32_t i = 0; i < nodes; ++i) node_pos[i] = cloud_.mean[d.domain[i]], all_nodes[i] = i;
-    const data::clicks::PointGrid node_grid(node_pos, all_nodes, std::max(graph_.cell_side(), 1e-6f));
+    const data::clicks::PointGrid node_grid(node_pos, all_nodes, std::max(cell, 1e-6f));
     struct ClickSeed {
         uint32_t node;
         int32_t label;
@@ -208,10 +214,39 @@ void Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const Gra
             node_grid.nearest(glm::vec3(a.position), 0xFFFFFFFFu, 8, &i);
             clicks.push_back({i, a.positive ? int32_t(j + 1) : 0});
         }
-    for (auto [i, label] : clicks)
-        for (uint32_t t = 0; t < k; ++t)
-            if (uint32_t q = nbr[size_t(i) * k + t]; q < nodes && pr.seed[q] < 0) pr.seed[q] = label;
+    if (nbr)
+        for (auto [i, label] : clicks)
+            for (uint32_t t = 0; t < k; ++t)
+                if (uint32_t q = (*nbr)[size_t(i) * k + t]; q < nodes && pr.seed[q] < 0) pr.seed[q] = label;
     for (auto [i, label] : clicks) pr.seed[i] = label;
+}
+
+bool Segmenter::early_coarse_answer(const SegmentOptions& o, const std::vector<ObjectResult*>& objects,
+                                    const GraphDomain& d, SegmentResult& result) {
+    // Before the fine graph (most of a cold click's wait): the coarse answer from the seeds that
+    // need no fine graph, each click's nearest node and the margin. The network's prior needs the
+    // fine graph's degrees, so ptv3+graph answers after it, in solve_walk.
+    const uint32_t nodes = uint32_t(d.domain.size());
+    if (!o.on_coarse || o.graph != GraphUse::Alone || o.solver == GraphSolver::Forest || o.coarse_stride < 2 ||
+        nodes < 64 * o.coarse_stride)
+        return false;
+    auto t0 = Clock::now();
+    WalkProblem early;
+    early.labels = uint32_t(objects.size() + 1);
+    early.seed.assign(nodes, -1);
+    for (uint32_t i = 0; i < nodes; ++i)
+        if (!d.in_roi[i]) early.seed[i] = 0;
+    // A grid of cells holding a few nodes each on average (the bounding box overstates the
+    // volume the nodes fill: coarser cells, still exact).
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
+    for (uint32_t g : d.domain) lo = glm::min(lo, cloud_.mean[g]), hi = glm::max(hi, cloud_.mean[g]);
+    const glm::vec3 size = glm::max(hi - lo, glm::vec3(1e-6f));
+    const float cell = std::cbrt(4.0f * size.x * size.y * size.z / float(nodes));
+    seed_clicks(objects, d, nullptr, cell, early);
+    auto start = coarse_start(o, d.domain, early);
+    result.stage_ms["graph coarse answer"] += ms_since(t0);
+    coarse_answer(o, objects, d.domain, start, early.labels, result);
+    return true;
 }
 
 void Segmenter::network_prior(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
@@ -264,6 +299,32 @@ void Segmenter::network_prior(const SegmentOptions& o, std::vector<ObjectResult*
     }
 }
 
+void Segmenter::coarse_answer(const SegmentOptions& o, const std::vector<ObjectResult*>& objects,
+                              const std::vector<uint32_t>& domain, const std::vector<float>& x, uint32_t labels,
+                              const SegmentResult& so_far) const {
+    // Each node's most likely label in the coarse solution, as the objects' claims.
+    SegmentResult answer;
+    answer.stage_ms = so_far.stage_ms;
+    answer.objects.reserve(objects.size());
+    for (const ObjectResult* obj : objects) {
+        answer.objects.push_back(*obj);
+        answer.objects.back().claims.clear();
+    }
+    for (size_t i = 0; i < domain.size(); ++i) {
+        const float* xi = &x[i * labels];
+        float sum = 0, best = 0;
+        uint32_t arg = 0;
+        for (uint32_t l = 0; l < labels; ++l) {
+            const float v = std::max(0.0f, xi[l]);
+            sum += v;
+            if (v > best) best = v, arg = l;
+        }
+        if (arg > 0) answer.objects[arg - 1].claims.push_back({domain[i], best / sum});
+    }
+    answer.assemble(cloud_.size());
+    o.on_coarse(answer);
+}
+
 void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                            const std::vector<uint32_t>& domain, const std::vector<uint32_t>& nbr, WalkProblem& pr,
                            SegmentResult& result) {
@@ -285,21 +346,26 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
     }
     const auto root = component_roots(graph_, nbr);
     if (!warm && o.coarse_stride > 1 && nodes >= 64 * o.coarse_stride) {
-        auto t1 = Clock::now();
         // Multigrid needs no head start where seeds or priors reach (its coarse levels carry
         // the far-reaching part, and the coarse answer's roughness costs it iterations): there
         // it starts from the prior. The coarse start stays where the fine graph's component has
         // nothing to start from, which only the coarse graph joins to the rest; with every
-        // component seeded the coarse solve is not run at all.
+        // component seeded the coarse solve runs only for a caller that shows its answer.
         const bool multigrid = o.walk.preconditioner == WalkPreconditioner::Multigrid;
         const auto seeded = multigrid ? seeded_components(root, pr) : std::vector<uint8_t>{};
-        if (!multigrid || std::count(seeded.begin(), seeded.end(), 0) > 0) {
-            pr.start = coarse_start(o, domain, pr);
-            for (uint32_t i = 0; multigrid && i < nodes; ++i)
-                if (seeded[i])
-                    for (uint32_t l = 0; l < labels; ++l)
-                        pr.start[size_t(i) * labels + l] = pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l];
+        const bool needed = !multigrid || std::count(seeded.begin(), seeded.end(), 0) > 0;
+        if (needed || o.on_coarse) {
+            auto t1 = Clock::now();
+            auto start = coarse_start(o, domain, pr);
             result.stage_ms["graph coarse start"] += ms_since(t1);
+            if (o.on_coarse) coarse_answer(o, objects, domain, start, labels, result);
+            if (needed) {
+                pr.start = std::move(start);
+                for (uint32_t i = 0; multigrid && i < nodes; ++i)
+                    if (seeded[i])
+                        for (uint32_t l = 0; l < labels; ++l)
+                            pr.start[size_t(i) * labels + l] = pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l];
+            }
         }
     }
     auto solution = walker_.solve(graph_, pr, o.walk);

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "dataset/error.h"
@@ -365,4 +366,51 @@ TEST_CASE("a streamed scene segments like the resident one: lifts, ROI, graph an
         CHECK(labelled > va.labels.size() / 20);
         CHECK(differ == 0);
     }
+}
+
+TEST_CASE("graph decoder: a cold solve hands over a coarse answer first, and a cancelled one leaves nothing stale") {
+    auto s = balls_scene();
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, s.cloud);
+    seg::SegmentOptions o;
+    o.up = {0, -1, 0};
+    o.scale = 0.5;
+    o.graph = seg::GraphUse::Alone;
+    o.graph_options.colour = 10.0f;
+    REQUIRE(s.cloud.size() >= 64 * o.coarse_stride);  // big enough for a coarse graph
+    data::Prompts p;
+    p.objects.push_back({"left", 1, {point_click({-1.0, -0.51, 0.0})}});
+    p.objects.push_back({"middle", 2, {point_click({0.0, -0.26, -0.25})}});
+
+    seg::Segmenter first(ctx, s.cloud, gpu, s.cameras);
+    int answers = 0;
+    std::vector<int32_t> coarse;
+    o.on_coarse = [&](const seg::SegmentResult& r) {
+        ++answers;
+        coarse = r.labels;
+    };
+    const auto full = first.segment(p, o);
+    CHECK(answers == 1);
+    REQUIRE(coarse.size() == s.cloud.size());
+    // Rough, but already each click's own ball.
+    CHECK(iou(coarse, 1, s.ball, 1) > 0.7);
+    CHECK(iou(coarse, 2, s.ball, 2) > 0.7);
+    CHECK(iou(full.labels, 1, s.ball, 1) > 0.9);
+    first.segment(p, o);  // warm: it starts from the last solution, no coarse answer
+    CHECK(answers == 1);
+
+    // A flag already set stops the run before any work.
+    std::atomic<bool> cancel{true};
+    o.cancel = &cancel;
+    seg::Segmenter second(ctx, s.cloud, gpu, s.cameras);
+    CHECK_THROWS_AS(second.segment(p, o), seg::Cancelled);
+    // Set while the coarse answer is shown (a newer click): the fine solve stops; the next run
+    // gives what a segmenter that was never interrupted gives.
+    cancel = false;
+    o.on_coarse = [&](const seg::SegmentResult&) { cancel = true; };
+    CHECK_THROWS_AS(second.segment(p, o), seg::Cancelled);
+    cancel = false;
+    o.on_coarse = nullptr;
+    const auto again = second.segment(p, o);
+    CHECK(again.labels == full.labels);
 }

@@ -302,3 +302,46 @@ TEST_CASE("graph decoder: the session solves every object at once, as segment --
     CHECK_FALSE(session.next_job());
     CHECK(*session.labels() == whole.labels);
 }
+
+TEST_CASE("a newer click makes the job in flight stale: its cancelled result is dropped, a coarse answer shows until the full one", "[viewer]") {
+    int a, b;
+    Document doc = two_objects(a, b);
+    Session session(kGaussians);
+    settle(session, doc);
+
+    doc.add_click(click(40, 0.6));  // b is selected
+    session.sync(doc, "model");
+    auto job = session.next_job();
+    REQUIRE(job);
+    CHECK(session.in_flight_covers(b));
+    CHECK_FALSE(session.in_flight_covers(a));
+    CHECK_FALSE(session.in_flight_stale());
+    doc.add_click(click(60, 0.6));  // b again, before the job is done
+    session.sync(doc, "model");
+    CHECK(session.in_flight_stale());
+
+    // The job stopped: nothing is cached for those clicks, and the newer ones are handed out.
+    SegmentOutcome stopped;
+    stopped.cancelled = true;
+    session.store(*job, stopped);
+    CHECK_FALSE(session.in_flight());
+    CHECK(count(labels(session), b) == 0);
+    auto newer = session.next_job();
+    REQUIRE(newer);
+    REQUIRE(newer->prompts.objects.front().id == b);
+    CHECK(newer->prompts.objects.front().clicks.size() == 3);
+
+    // A coarse answer for an older job is ignored; the job in flight's shows until its result.
+    session.store_coarse(*job, {{claims_of(job->prompts.objects.front())}, {}, {}});
+    CHECK(count(labels(session), b) == 0);
+    data::ObjectPrompt rough = newer->prompts.objects.front();
+    rough.clicks.resize(1);
+    session.store_coarse(*newer, {{claims_of(rough)}, {}, {}});
+    CHECK(session.showing_coarse());
+    CHECK(count(labels(session), b) == 10);
+    CHECK(count(labels(session), a) == 10);
+    session.store(*newer, {{claims_of(newer->prompts.objects.front())}, {}, {}});
+    CHECK_FALSE(session.showing_coarse());
+    CHECK(count(labels(session), b) == 30);
+    CHECK(settle(session, doc).empty());
+}
