@@ -20,14 +20,18 @@ uint32_t bits_for(uint32_t cells) {
 }
 
 // Median distance from a node to its nearest other node, over a sample of up to 1000 nodes
-// (queried against the nodes outside the sample, so a query never finds itself).
-float spacing_of(const std::vector<glm::vec3>& p) {
+// (queried against the nodes outside the sample, so a query never finds itself). The sample is
+// every step-th Gaussian in scene order, whatever order the domain lists them in.
+float spacing_of(const std::vector<glm::vec3>& p, const std::vector<uint32_t>& domain) {
     const size_t n = p.size();
     if (n < 2) return 1.0f;
     const size_t step = std::max<size_t>(2, n / 1000);
+    std::vector<uint32_t> by_id(n);
+    for (uint32_t i = 0; i < n; ++i) by_id[i] = i;
+    std::sort(by_id.begin(), by_id.end(), [&](uint32_t a, uint32_t b) { return domain[a] < domain[b]; });
     std::vector<uint32_t> rest;
     std::vector<size_t> queries;
-    for (size_t i = 0; i < n; ++i) (i % step == 0 ? queries.push_back(i) : rest.push_back(uint32_t(i)));
+    for (size_t r = 0; r < n; ++r) (r % step == 0 ? queries.push_back(by_id[r]) : rest.push_back(by_id[r]));
     data::clicks::KdTree tree(p, rest);
     std::vector<double> d;
     for (size_t q : queries) d.push_back(std::sqrt(tree.nearest2(glm::dvec3(p[q]), 1e30)));
@@ -64,7 +68,7 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     // The grid: robust bounds (outliers clamp into the border cells) and a cell side from the spacing.
     std::vector<glm::vec3> p(n);
     for (uint32_t i = 0; i < n; ++i) p[i] = cloud.mean[domain[i]];
-    median_spacing_ = spacing_of(p);
+    median_spacing_ = spacing_of(p, domain);
     glm::vec3 lo(0.0f), hi(0.0f);
     std::vector<float> axis(n);
     for (int a = 0; a < 3; ++a) {

@@ -97,11 +97,30 @@ GraphDomain graph_domain(const data::GaussianCloud& cloud, const std::vector<Obj
             double l = std::abs(glm::dot(rel, r.length_axis)) / (r.length / 2);
             double w = std::abs(glm::dot(rel, r.width_axis)) / (r.width / 2);
             if (l <= 1 + 2 * margin && w <= 1 + 2 * margin) {
-                node_of[i] = int32_t(domain.size());
                 domain.push_back(uint32_t(i));
                 break;
             }
         }
+    }
+    // Nodes in Morton order of their position: a node's neighbours get nearby numbers, so the
+    // passes' gathers stay in cache and a SIMD group's nodes share cells and row lengths.
+    if (!domain.empty()) {
+        glm::vec3 lo = cloud.mean[domain[0]], hi = lo;
+        for (uint32_t g : domain) lo = glm::min(lo, cloud.mean[g]), hi = glm::max(hi, cloud.mean[g]);
+        const glm::vec3 to_grid = 1023.0f / glm::max(hi - lo, glm::vec3(1e-12f));
+        auto spread = [](uint32_t v) {  // 10 bits -> every third bit
+            v = (v | (v << 16)) & 0x030000FFu;
+            v = (v | (v << 8)) & 0x0300F00Fu;
+            v = (v | (v << 4)) & 0x030C30C3u;
+            return (v | (v << 2)) & 0x09249249u;
+        };
+        std::vector<std::pair<uint32_t, uint32_t>> keyed(domain.size());
+        for (size_t s = 0; s < domain.size(); ++s) {
+            const glm::uvec3 q(glm::clamp((cloud.mean[domain[s]] - lo) * to_grid, glm::vec3(0.0f), glm::vec3(1023.0f)));
+            keyed[s] = {spread(q.x) | spread(q.y) << 1 | spread(q.z) << 2, domain[s]};
+        }
+        std::sort(keyed.begin(), keyed.end());
+        for (size_t s = 0; s < domain.size(); ++s) domain[s] = keyed[s].second, node_of[domain[s]] = int32_t(s);
     }
     d.in_roi.assign(domain.size(), 0);
     for (auto& roi : rois)
@@ -117,10 +136,17 @@ std::vector<float> Segmenter::coarse_start(const SegmentOptions& o, const std::v
     // The same problem on every coarse_stride-th node (and every object's click): a graph
     // with fewer hops across, solved in a fraction of the fine solve's iterations; each fine
     // node starts from its nearest coarse node's answer, so the fine solve only sharpens it.
+    // Every stride-th in scene order, not in the nodes' Morton order: that would be a uniform
+    // spatial subsample, which keeps sparse parts (floaters) and thins dense ones, and labels
+    // the unseeded components differently (seeds 909 and 3131: 4 of 6 suite means 0.1-1.6
+    // points lower).
     const uint32_t nodes = uint32_t(domain.size()), labels = fine.labels;
-    std::vector<uint32_t> members, coarse_domain;
-    for (uint32_t i = 0; i < nodes; ++i) {
-        if (i % o.coarse_stride == 0 || fine.seed[i] > 0) {
+    std::vector<uint32_t> by_id(nodes), members, coarse_domain;
+    for (uint32_t i = 0; i < nodes; ++i) by_id[i] = i;
+    std::sort(by_id.begin(), by_id.end(), [&](uint32_t a, uint32_t b) { return domain[a] < domain[b]; });
+    for (uint32_t r = 0; r < nodes; ++r) {
+        const uint32_t i = by_id[r];
+        if (r % o.coarse_stride == 0 || fine.seed[i] > 0) {
             members.push_back(i);
             coarse_domain.push_back(domain[i]);
         }
