@@ -239,6 +239,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--graph-k", a->graph.k, "Graph: neighbours per Gaussian (1-16)")->capture_default_str();
     cmd->add_option("--graph-colour", a->graph.colour, "Graph: colour contrast beta_c in exp(-beta_c |drgb|^2)")->capture_default_str();
     cmd->add_option("--graph-normal", a->graph.normal, "Graph: normal contrast beta_n")->capture_default_str();
+    cmd->add_option("--graph-cell", a->graph.cell, "Graph: grid cell side in median nearest-neighbour distances (the neighbour search is exact within one cell side)")->capture_default_str();
     cmd->add_option("--graph-shells", a->graph.shells, "Graph: shells of grid cells a Gaussian short of k neighbours searches (1-4; more joins sparse Gaussians, and lets floaters bridge objects)")->capture_default_str();
     cmd->add_option("--graph-opacity", a->graph.opacity, "Graph: an edge's weight has the factor min(opacity)^this (0: opacity plays no part)")->capture_default_str();
     cmd->add_option("--graph-distance", a->graph.distance, "Graph: distance fall-off in local spacings")->capture_default_str();
