@@ -166,11 +166,23 @@ private:
     // The same problem by widest paths: the seeds, plus the network's confident labels.
     void solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>& objects, const std::vector<uint32_t>& domain,
                       const std::vector<uint32_t>& neighbours, const WalkProblem& problem, SegmentResult& result);
-    // Hands options.on_coarse the objects' labels from a coarse solution `x` over `domain`.
+    // Hands options.on_coarse the objects' claims from per-node labels (-1: none) over `domain`.
     void coarse_answer(const SegmentOptions& o, const std::vector<ObjectResult*>& objects,
-                       const std::vector<uint32_t>& domain, const std::vector<float>& x, uint32_t labels,
-                       const SegmentResult& so_far) const;
-    // A starting point for the fine solve from the same problem on a subset of the nodes.
+                       const std::vector<uint32_t>& domain, const std::vector<int32_t>& label,
+                       const std::vector<float>& confidence, const SegmentResult& so_far) const;
+    // The same problem on every coarse_stride-th node (in scene order, or else in the nodes'
+    // Morton order) and the clicks' nodes, walked on coarse_graph_; `spread_clicks`: the fine
+    // problem seeds each click at one node, seed its coarse neighbours too.
+    static constexpr uint32_t kNoCoarse = 0xFFFFFFFFu;
+    struct CoarseSolve {
+        std::vector<uint32_t> members;  // coarse node -> fine node
+        std::vector<int32_t> seed;      // per coarse node
+        WalkResult walk;                // over the coarse nodes
+        std::vector<uint32_t> nearest;  // fine node -> its nearest coarse node (kNoCoarse: none)
+    };
+    CoarseSolve coarse_solve(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine,
+                             bool spread_clicks, bool scene_order);
+    // A starting point for the fine solve: each node starts from its nearest coarse node's answer.
     std::vector<float> coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine);
     Anchor anchor_for(const data::PromptClick& click, const SegmentOptions& o, const std::string& what);
 
