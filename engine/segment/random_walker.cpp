@@ -206,6 +206,13 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
         auto prior = columns(pr.prior);
         vk::upload(ctx_, prior_, prior.data(), bytes);
         auto x0 = pr.start.empty() ? prior : columns(pr.start);
+        // Multigrid first; a batch in which some column made no progress at all (its residual
+        // never fell below half its start: the V-cycle's float arithmetic diverging on it) is
+        // solved again from the same start with the Jacobi preconditioner, slow but steady.
+        const bool use_multigrid = o.preconditioner == WalkPreconditioner::Multigrid;
+        uint32_t it = 0;
+        std::vector<double> best, column;  // per column: its best (multigrid keeps that iterate) and last residual
+        for (bool jacobi_retry = false;; jacobi_retry = true) {
         vk::upload(ctx_, x_, x0.data(), bytes);
 
         gpu::WalkPush push[4];
@@ -225,13 +232,14 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
         cmd_.dispatch("segment/walk_residual", {b_, ap_, inv_diag_, r_, z_, p_, partials_}, push[3], node_groups);
         cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[3], reduce_groups);
         cmd_.end_pass();
-        if (base == 0 && o.preconditioner == WalkPreconditioner::Multigrid) {
+        if (base == 0 && use_multigrid && !jacobi_retry) {
             // The hierarchy needs walk_edges' arrays (the same for every column batch).
             cmd_.submit_and_wait();
             for (auto& t : cmd_.timings()) timings_.push_back(t);
             stop_if_cancelled(o.cancel);
             multigrid = build_hierarchy(graph, pr.seed, gamma, most_width, o, out);
         }
+        if (jacobi_retry) multigrid = false;
         if (multigrid) {
             // r = b - A x, pre-smoothing z = smoother r (walk_residual with the smoother for
             // 1/diag), the V-cycle, r.z, and p = z (beta is 0 at the start).
@@ -254,10 +262,11 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
         // wait longer on its word).
         const bool predict = multigrid && o.check_every == 0;
         uint32_t check_every = o.check_every ? o.check_every : multigrid ? 5 : 25;
-        uint32_t it = 0, last_it = 0, best_it = 0;
+        it = 0;
+        uint32_t last_it = 0, best_it = 0;
         double residual = 0, last = 0;
-        std::vector<double> best(labels, 1e300);  // per column: its best residual (multigrid keeps that iterate)
-        std::vector<double> column(labels, 0.0);
+        best.assign(labels, 1e300);
+        column.assign(labels, 0.0);
         for (;;) {
             if (multigrid) {
                 // The stop test measures r . r / diag, as the Jacobi solve does (see walk_check), over
@@ -321,6 +330,12 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
                 cmd_.dispatch("segment/walk_direction", {scalars_, z_, p_}, push[0], node_groups);
             }
             cmd_.end_pass();
+        }
+        if (multigrid && *std::max_element(best.begin(), best.end()) > 0.5) {
+            out.jacobi_retries += 1;
+            continue;
+        }
+        break;
         }
         // A column whose last residual is not its best answers with its best iterate.
         double answered = 0;

@@ -43,6 +43,7 @@ struct WalkResult {
     double residual = 0;            // largest final sqrt(r.z / (b.b/diag))
     uint32_t levels = 0;            // multigrid levels (0: the Jacobi preconditioner)
     double hierarchy_ms = 0;        // host time building the multigrid hierarchy
+    uint32_t jacobi_retries = 0;    // column batches multigrid made no progress on, solved again with Jacobi
 };
 
 class RandomWalker {

@@ -97,6 +97,7 @@ struct GraphReport {
     GraphSolver solver = GraphSolver::Walk;
     uint32_t iterations = 0;     // the walk's conjugate-gradient iterations
     uint32_t levels = 0;         // the walk's multigrid levels (0: Jacobi preconditioner)
+    uint32_t jacobi_retries = 0; // column batches multigrid made no progress on, solved again with Jacobi
     uint32_t rounds = 0;         // the forest's relaxation rounds
     double residual = 0, cell = 0, spacing = 0;
 };

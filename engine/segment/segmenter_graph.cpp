@@ -474,6 +474,7 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
     GraphReport report = graph_report(graph_, GraphSolver::Walk, pr.seed);
     report.iterations = solution.iterations;
     report.levels = solution.levels;
+    report.jacobi_retries = solution.jacobi_retries;
     // Parts of "graph solve": the host's multigrid hierarchy, the walk's GPU passes.
     if (solution.levels) result.stage_ms["graph hierarchy"] += solution.hierarchy_ms;
     for (const auto& t : walker_.timings()) result.stage_ms["graph walk gpu"] += t.ms;
