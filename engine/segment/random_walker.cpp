@@ -213,129 +213,129 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
         uint32_t it = 0;
         std::vector<double> best, column;  // per column: its best (multigrid keeps that iterate) and last residual
         for (bool jacobi_retry = false;; jacobi_retry = true) {
-        vk::upload(ctx_, x_, x0.data(), bytes);
+            vk::upload(ctx_, x_, x0.data(), bytes);
 
-        gpu::WalkPush push[4];
-        for (uint32_t mode = 0; mode < 4; ++mode) push[mode] = {{n, graph.k(), labels, node_groups}, {mode, base, 0, 0}};
-        const auto& rows = graph.rows();
-        const auto& entries = graph.entries();
-        const auto& nbr = graph.neighbour_buffer();
-        const auto& w = graph.weight_buffer();
-        const auto& deg = graph.degree_buffer();
-        const uint32_t reduce_groups = width / 4;
-        cmd_.begin_pass("walk start");
-        cmd_.dispatch("segment/walk_rhs", {rows, entries, nbr, w, deg, seed_, gamma_, prior_, x_, b_, inv_diag_},
-                      push[0], node_groups);
-        cmd_.dispatch("segment/walk_edges", {entries, nbr, w, seed_, rows, edge_columns_, edge_weights_}, push[0],
-                      vk::ceil_div(2ull * n * graph.k(), gpu::kGraphGroup));
-        cmd_.dispatch("segment/walk_apply", {rows, edge_columns_, edge_weights_, deg, seed_, gamma_, x_, ap_, partials_}, push[0], node_groups);
-        cmd_.dispatch("segment/walk_residual", {b_, ap_, inv_diag_, r_, z_, p_, partials_}, push[3], node_groups);
-        cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[3], reduce_groups);
-        cmd_.end_pass();
-        if (base == 0 && use_multigrid && !jacobi_retry) {
-            // The hierarchy needs walk_edges' arrays (the same for every column batch).
-            cmd_.submit_and_wait();
-            for (auto& t : cmd_.timings()) timings_.push_back(t);
-            stop_if_cancelled(o.cancel);
-            multigrid = build_hierarchy(graph, pr.seed, gamma, most_width, o, out);
-        }
-        if (jacobi_retry) multigrid = false;
-        if (multigrid) {
-            // r = b - A x, pre-smoothing z = smoother r (walk_residual with the smoother for
-            // 1/diag), the V-cycle, r.z, and p = z (beta is 0 at the start).
-            cmd_.begin_pass("walk multigrid start");
-            cmd_.dispatch("segment/walk_residual", {b_, ap_, levels_[0].smoother, r_, levels_[0].pre, p_, partials_}, push[0],
-                          node_groups);
-            record_cycle(graph, labels, o.coarse_scale);
-            cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[0], reduce_groups);
-            cmd_.dispatch("segment/walk_direction", {scalars_, z_, p_}, push[0], node_groups);
-        } else {
+            gpu::WalkPush push[4];
+            for (uint32_t mode = 0; mode < 4; ++mode) push[mode] = {{n, graph.k(), labels, node_groups}, {mode, base, 0, 0}};
+            const auto& rows = graph.rows();
+            const auto& entries = graph.entries();
+            const auto& nbr = graph.neighbour_buffer();
+            const auto& w = graph.weight_buffer();
+            const auto& deg = graph.degree_buffer();
+            const uint32_t reduce_groups = width / 4;
             cmd_.begin_pass("walk start");
-            cmd_.dispatch("segment/walk_residual", {b_, ap_, inv_diag_, r_, z_, p_, partials_}, push[0], node_groups);
-            cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[0], reduce_groups);
-        }
-        cmd_.end_pass();
-
-        // Multigrid converges in a few tens of iterations: a long wait between checks would
-        // overshoot by a large share of the solve, so (unless told) it checks every 5, or sooner
-        // when the rate seen so far says fewer are left (the rate is not steady enough to
-        // wait longer on its word).
-        const bool predict = multigrid && o.check_every == 0;
-        uint32_t check_every = o.check_every ? o.check_every : multigrid ? 5 : 25;
-        it = 0;
-        uint32_t last_it = 0, best_it = 0;
-        double residual = 0, last = 0;
-        best.assign(labels, 1e300);
-        column.assign(labels, 0.0);
-        for (;;) {
+            cmd_.dispatch("segment/walk_rhs", {rows, entries, nbr, w, deg, seed_, gamma_, prior_, x_, b_, inv_diag_},
+                          push[0], node_groups);
+            cmd_.dispatch("segment/walk_edges", {entries, nbr, w, seed_, rows, edge_columns_, edge_weights_}, push[0],
+                          vk::ceil_div(2ull * n * graph.k(), gpu::kGraphGroup));
+            cmd_.dispatch("segment/walk_apply", {rows, edge_columns_, edge_weights_, deg, seed_, gamma_, x_, ap_, partials_}, push[0], node_groups);
+            cmd_.dispatch("segment/walk_residual", {b_, ap_, inv_diag_, r_, z_, p_, partials_}, push[3], node_groups);
+            cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[3], reduce_groups);
+            cmd_.end_pass();
+            if (base == 0 && use_multigrid && !jacobi_retry) {
+                // The hierarchy needs walk_edges' arrays (the same for every column batch).
+                cmd_.submit_and_wait();
+                for (auto& t : cmd_.timings()) timings_.push_back(t);
+                stop_if_cancelled(o.cancel);
+                multigrid = build_hierarchy(graph, pr.seed, gamma, most_width, o, out);
+            }
+            if (jacobi_retry) multigrid = false;
             if (multigrid) {
-                // The stop test measures r . r / diag, as the Jacobi solve does (see walk_check), over
-                // the nodes in the hierarchy: level 0's smoother is omega / diag there and 0 on the
-                // components it leaves out (no seed or prior: they keep their start, whatever their r).
-                cmd_.begin_pass("walk check");
-                cmd_.dispatch("segment/walk_check", {r_, levels_[0].smoother, partials_}, push[0], node_groups);
-                cmd_.dispatch("segment/walk_reduce", {partials_, check_}, push[0], reduce_groups);
-                cmd_.end_pass();
-            }
-            cmd_.submit_and_wait();
-            for (auto& t : cmd_.timings()) timings_.push_back(t);
-            stop_if_cancelled(o.cancel);
-            auto s = vk::download_vector<gpu::WalkScalars>(ctx_, scalars_, labels);
-            if (multigrid) {
-                const auto c = vk::download_vector<gpu::WalkScalars>(ctx_, check_, labels);
-                for (uint32_t l = 0; l < labels; ++l) s[l].value.x = c[l].value.x / o.hierarchy.omega;
-            }
-            residual = 0;
-            for (uint32_t l = 0; l < labels; ++l) {
-                const auto& v = s[l].value;
-                column[l] = v.w > 0 ? std::sqrt(std::max(0.0f, v.x) / v.w) : 0.0;
-                residual = std::max(residual, column[l]);
-            }
-            // Asked for more than float gives, or on a scene whose few seeds leave the operator
-            // nearly singular (a real capture with two clicks), multigrid stalls and may blow up,
-            // one column at a time: each column's best iterate is kept (best_x_, as the next batch
-            // starts) and answers for it, and 15 iterations in which no column improved end the solve.
-            uint32_t improved = 0;
-            for (uint32_t l = 0; l < labels; ++l)
-                if (column[l] < best[l]) best[l] = column[l], improved |= 1u << l;
-            if (improved) best_it = it;
-            if (residual <= o.tolerance || it >= o.max_iterations) break;
-            if (multigrid && it >= best_it + 15) break;
-            if (predict && it > last_it && residual < last) {
-                const double rate = std::log(residual / last) / double(it - last_it);
-                check_every = uint32_t(std::clamp(std::ceil(std::log(o.tolerance / residual) / rate), 1.0, 5.0));
-            }
-            last = residual, last_it = it;
-            cmd_.begin_pass("walk iterations");
-            if (multigrid && improved) {
-                gpu::WalkPush keep = push[0];
-                keep.mode.z = improved;
-                cmd_.dispatch("segment/walk_keep", {x_, best_x_}, keep, node_groups);
-            }
-            for (uint32_t c = 0; c < check_every && it < o.max_iterations; ++c, ++it) {
-                cmd_.dispatch("segment/walk_apply", {rows, edge_columns_, edge_weights_, deg, seed_, gamma_, p_, ap_, partials_}, push[1],
+                // r = b - A x, pre-smoothing z = smoother r (walk_residual with the smoother for
+                // 1/diag), the V-cycle, r.z, and p = z (beta is 0 at the start).
+                cmd_.begin_pass("walk multigrid start");
+                cmd_.dispatch("segment/walk_residual", {b_, ap_, levels_[0].smoother, r_, levels_[0].pre, p_, partials_}, push[0],
                               node_groups);
-                cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[1], reduce_groups);
-                if (multigrid) {
-                    // walk_update's z = smoother r is the V-cycle's pre-smoothing on level 0
-                    // (its dots go unused: the cycle's last sweep writes r . z).
-                    cmd_.dispatch("segment/walk_update", {scalars_, p_, ap_, levels_[0].smoother, x_, r_, levels_[0].pre, partials_},
-                                  push[0], node_groups);
-                    record_cycle(graph, labels, o.coarse_scale);
-                } else {
-                    cmd_.dispatch("segment/walk_update", {scalars_, p_, ap_, inv_diag_, x_, r_, z_, partials_}, push[0],
-                                  node_groups);
-                }
-                cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[2], reduce_groups);
+                record_cycle(graph, labels, o.coarse_scale);
+                cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[0], reduce_groups);
                 cmd_.dispatch("segment/walk_direction", {scalars_, z_, p_}, push[0], node_groups);
+            } else {
+                cmd_.begin_pass("walk start");
+                cmd_.dispatch("segment/walk_residual", {b_, ap_, inv_diag_, r_, z_, p_, partials_}, push[0], node_groups);
+                cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[0], reduce_groups);
             }
             cmd_.end_pass();
-        }
-        if (multigrid && *std::max_element(best.begin(), best.end()) > 0.5) {
-            out.jacobi_retries += 1;
-            continue;
-        }
-        break;
+
+            // Multigrid converges in a few tens of iterations: a long wait between checks would
+            // overshoot by a large share of the solve, so (unless told) it checks every 5, or sooner
+            // when the rate seen so far says fewer are left (the rate is not steady enough to
+            // wait longer on its word).
+            const bool predict = multigrid && o.check_every == 0;
+            uint32_t check_every = o.check_every ? o.check_every : multigrid ? 5 : 25;
+            it = 0;
+            uint32_t last_it = 0, best_it = 0;
+            double residual = 0, last = 0;
+            best.assign(labels, 1e300);
+            column.assign(labels, 0.0);
+            for (;;) {
+                if (multigrid) {
+                    // The stop test measures r . r / diag, as the Jacobi solve does (see walk_check), over
+                    // the nodes in the hierarchy: level 0's smoother is omega / diag there and 0 on the
+                    // components it leaves out (no seed or prior: they keep their start, whatever their r).
+                    cmd_.begin_pass("walk check");
+                    cmd_.dispatch("segment/walk_check", {r_, levels_[0].smoother, partials_}, push[0], node_groups);
+                    cmd_.dispatch("segment/walk_reduce", {partials_, check_}, push[0], reduce_groups);
+                    cmd_.end_pass();
+                }
+                cmd_.submit_and_wait();
+                for (auto& t : cmd_.timings()) timings_.push_back(t);
+                stop_if_cancelled(o.cancel);
+                auto s = vk::download_vector<gpu::WalkScalars>(ctx_, scalars_, labels);
+                if (multigrid) {
+                    const auto c = vk::download_vector<gpu::WalkScalars>(ctx_, check_, labels);
+                    for (uint32_t l = 0; l < labels; ++l) s[l].value.x = c[l].value.x / o.hierarchy.omega;
+                }
+                residual = 0;
+                for (uint32_t l = 0; l < labels; ++l) {
+                    const auto& v = s[l].value;
+                    column[l] = v.w > 0 ? std::sqrt(std::max(0.0f, v.x) / v.w) : 0.0;
+                    residual = std::max(residual, column[l]);
+                }
+                // Asked for more than float gives, or on a scene whose few seeds leave the operator
+                // nearly singular (a real capture with two clicks), multigrid stalls and may blow up,
+                // one column at a time: each column's best iterate is kept (best_x_, as the next batch
+                // starts) and answers for it, and 15 iterations in which no column improved end the solve.
+                uint32_t improved = 0;
+                for (uint32_t l = 0; l < labels; ++l)
+                    if (column[l] < best[l]) best[l] = column[l], improved |= 1u << l;
+                if (improved) best_it = it;
+                if (residual <= o.tolerance || it >= o.max_iterations) break;
+                if (multigrid && it >= best_it + 15) break;
+                if (predict && it > last_it && residual < last) {
+                    const double rate = std::log(residual / last) / double(it - last_it);
+                    check_every = uint32_t(std::clamp(std::ceil(std::log(o.tolerance / residual) / rate), 1.0, 5.0));
+                }
+                last = residual, last_it = it;
+                cmd_.begin_pass("walk iterations");
+                if (multigrid && improved) {
+                    gpu::WalkPush keep = push[0];
+                    keep.mode.z = improved;
+                    cmd_.dispatch("segment/walk_keep", {x_, best_x_}, keep, node_groups);
+                }
+                for (uint32_t c = 0; c < check_every && it < o.max_iterations; ++c, ++it) {
+                    cmd_.dispatch("segment/walk_apply", {rows, edge_columns_, edge_weights_, deg, seed_, gamma_, p_, ap_, partials_}, push[1],
+                                  node_groups);
+                    cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[1], reduce_groups);
+                    if (multigrid) {
+                        // walk_update's z = smoother r is the V-cycle's pre-smoothing on level 0
+                        // (its dots go unused: the cycle's last sweep writes r . z).
+                        cmd_.dispatch("segment/walk_update", {scalars_, p_, ap_, levels_[0].smoother, x_, r_, levels_[0].pre, partials_},
+                                      push[0], node_groups);
+                        record_cycle(graph, labels, o.coarse_scale);
+                    } else {
+                        cmd_.dispatch("segment/walk_update", {scalars_, p_, ap_, inv_diag_, x_, r_, z_, partials_}, push[0],
+                                      node_groups);
+                    }
+                    cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[2], reduce_groups);
+                    cmd_.dispatch("segment/walk_direction", {scalars_, z_, p_}, push[0], node_groups);
+                }
+                cmd_.end_pass();
+            }
+            if (multigrid && *std::max_element(best.begin(), best.end()) > 0.5) {
+                out.jacobi_retries += 1;
+                continue;
+            }
+            break;
         }
         // A column whose last residual is not its best answers with its best iterate.
         double answered = 0;

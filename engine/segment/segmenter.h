@@ -122,6 +122,7 @@ struct GraphDomain {
     std::vector<uint32_t> domain;  // node -> Gaussian
     std::vector<int32_t> node_of;  // Gaussian -> node, -1 outside
     std::vector<uint8_t> in_roi;   // per node: inside an object's ROI (else it seeds the background)
+    glm::vec3 lo{0.0f}, hi{0.0f};  // the nodes' bounding box
 };
 
 class Segmenter {

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 
 #include "dataset/clicks/point_grid.h"
 #include "engine/vk/context.h"
@@ -105,7 +104,9 @@ GraphDomain graph_domain(const data::GaussianCloud& cloud, const std::vector<Obj
     // Nodes in Morton order of their position: a node's neighbours get nearby numbers, so the
     // passes' gathers stay in cache and a SIMD group's nodes share cells and row lengths.
     if (!domain.empty()) {
-        glm::vec3 lo = cloud.mean[domain[0]], hi = lo;
+        glm::vec3& lo = d.lo;
+        glm::vec3& hi = d.hi;
+        lo = hi = cloud.mean[domain[0]];
         for (uint32_t g : domain) lo = glm::min(lo, cloud.mean[g]), hi = glm::max(hi, cloud.mean[g]);
         const glm::vec3 to_grid = 1023.0f / glm::max(hi - lo, glm::vec3(1e-12f));
         auto spread = [](uint32_t v) {  // 10 bits -> every third bit
@@ -327,9 +328,7 @@ bool Segmenter::early_coarse_answer(const SegmentOptions& o, const std::vector<O
         if (!d.in_roi[i]) early.seed[i] = 0;
     // A grid of cells holding a few nodes each on average (the bounding box overstates the
     // volume the nodes fill: coarser cells, still exact).
-    glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
-    for (uint32_t g : d.domain) lo = glm::min(lo, cloud_.mean[g]), hi = glm::max(hi, cloud_.mean[g]);
-    const glm::vec3 size = glm::max(hi - lo, glm::vec3(1e-6f));
+    const glm::vec3 size = glm::max(d.hi - d.lo, glm::vec3(1e-6f));
     const float cell = std::cbrt(4.0f * size.x * size.y * size.z / float(nodes));
     seed_clicks(objects, d, nullptr, cell, early);
     // The full solve's rule on the coarse graph (walk, and forest where the walk is unsure),
