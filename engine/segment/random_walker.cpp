@@ -20,7 +20,7 @@ void put(vk::Context& ctx, vk::Buffer& to, const std::vector<T>& from) {
 }  // namespace
 
 RandomWalker::RandomWalker(vk::Context& ctx) : ctx_(ctx), cmd_(ctx) {
-    for (auto* b : {&seed_, &gamma_, &prior_, &x_, &b_, &inv_diag_, &r_, &z_, &p_, &ap_, &partials_, &scalars_, &check_, &best_x_, &edge_columns_, &edge_weights_, &coarse_inverse_})
+    for (auto* b : {&seed_, &gamma_, &prior_, &x_, &b_, &inv_diag_, &coupling_, &r_, &z_, &p_, &ap_, &partials_, &scalars_, &check_, &best_x_, &edge_columns_, &edge_weights_, &coarse_inverse_})
         *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "random walker");
 }
 
@@ -179,6 +179,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
     vk::upload(ctx_, seed_, pr.seed.data(), uint64_t(n) * 4);
     vk::upload(ctx_, gamma_, gamma.data(), uint64_t(n) * 4);
     inv_diag_.ensure(uint64_t(n) * 4);
+    coupling_.ensure(uint64_t(n) * 4);
     edge_columns_.ensure(2ull * n * graph.k() * 4);
     edge_weights_.ensure(2ull * n * graph.k() * 4);
     const uint32_t most = std::min(total, gpu::kWalkMaxLabels);
@@ -224,11 +225,11 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
             const auto& deg = graph.degree_buffer();
             const uint32_t reduce_groups = width / 4;
             cmd_.begin_pass("walk start");
-            cmd_.dispatch("segment/walk_rhs", {rows, entries, nbr, w, deg, seed_, gamma_, prior_, x_, b_, inv_diag_},
+            cmd_.dispatch("segment/walk_rhs", {rows, entries, nbr, w, deg, seed_, gamma_, prior_, x_, b_, inv_diag_, coupling_},
                           push[0], node_groups);
             cmd_.dispatch("segment/walk_edges", {entries, nbr, w, seed_, rows, edge_columns_, edge_weights_}, push[0],
                           vk::ceil_div(2ull * n * graph.k(), gpu::kGraphGroup));
-            cmd_.dispatch("segment/walk_apply", {rows, edge_columns_, edge_weights_, deg, seed_, gamma_, x_, ap_, partials_}, push[0], node_groups);
+            cmd_.dispatch("segment/walk_apply", {rows, edge_columns_, edge_weights_, coupling_, seed_, x_, ap_, partials_}, push[0], node_groups);
             cmd_.dispatch("segment/walk_residual", {b_, ap_, inv_diag_, r_, z_, p_, partials_}, push[3], node_groups);
             cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[3], reduce_groups);
             cmd_.end_pass();
@@ -313,7 +314,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
                     cmd_.dispatch("segment/walk_keep", {x_, best_x_}, keep, node_groups);
                 }
                 for (uint32_t c = 0; c < check_every && it < o.max_iterations; ++c, ++it) {
-                    cmd_.dispatch("segment/walk_apply", {rows, edge_columns_, edge_weights_, deg, seed_, gamma_, p_, ap_, partials_}, push[1],
+                    cmd_.dispatch("segment/walk_apply", {rows, edge_columns_, edge_weights_, coupling_, seed_, p_, ap_, partials_}, push[1],
                                   node_groups);
                     cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[1], reduce_groups);
                     if (multigrid) {

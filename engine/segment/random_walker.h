@@ -75,7 +75,7 @@ private:
 
     vk::Context& ctx_;
     vk::CommandList cmd_;
-    vk::Buffer seed_, gamma_, prior_, x_, b_, inv_diag_, r_, z_, p_, ap_, partials_, scalars_, check_, best_x_, edge_columns_, edge_weights_;
+    vk::Buffer seed_, gamma_, prior_, x_, b_, inv_diag_, coupling_, r_, z_, p_, ap_, partials_, scalars_, check_, best_x_, edge_columns_, edge_weights_;
     std::vector<vk::PassTiming> timings_;
     WalkHierarchy hierarchy_;
     std::vector<DeviceLevel> levels_;

@@ -21,7 +21,40 @@ void children_of(const std::vector<uint32_t>& parent, uint32_t coarse, std::vect
         if (parent[i] != kHierarchyNone) children[at[parent[i]]++] = i;
 }
 
+uint32_t find_root(std::vector<uint32_t>& up, uint32_t i) {
+    while (up[i] != i) i = up[i] = up[up[i]];
+    return i;
+}
+
 }  // namespace
+
+uint32_t drop_unanchored(WalkMatrix& a) {
+    const uint32_t n = a.size();
+    std::vector<uint32_t> up(n);
+    for (uint32_t i = 0; i < n; ++i) up[i] = i;
+    std::vector<uint8_t> anchored(n, 0);
+    for (uint32_t i = 0; i < n; ++i) {
+        if (a.diagonal[i] <= 0.0f) continue;
+        double e = a.diagonal[i];
+        for (uint32_t s = a.rows[i]; s < a.rows[i + 1]; ++s) {
+            const uint32_t j = a.columns[s];
+            e -= a.weights[s];
+            if (a.weights[s] > 0.0f && j != i && a.diagonal[j] > 0.0f) {
+                const uint32_t x = find_root(up, i), y = find_root(up, j);
+                if (x != y) up[std::max(x, y)] = std::min(x, y);
+            }
+        }
+        // The same threshold as galerkin's excess: below it, the rounding of a bare row.
+        if (e > 1e-6 * a.diagonal[i]) anchored[i] = 1;
+    }
+    std::vector<uint8_t> root_anchored(n, 0);
+    for (uint32_t i = 0; i < n; ++i)
+        if (anchored[i]) root_anchored[find_root(up, i)] = 1;
+    uint32_t dropped = 0;
+    for (uint32_t i = 0; i < n; ++i)
+        if (a.diagonal[i] > 0.0f && !root_anchored[find_root(up, i)]) a.diagonal[i] = 0.0f, ++dropped;
+    return dropped;
+}
 
 std::vector<uint32_t> aggregate_nodes(const WalkMatrix& a, const HierarchyOptions& o, uint32_t& count) {
     const uint32_t n = a.size();
@@ -181,6 +214,10 @@ std::vector<float> dense_pseudo_inverse(const WalkMatrix& a) {
 
 WalkHierarchy build_walk_hierarchy(WalkMatrix fine, const HierarchyOptions& o) {
     WalkHierarchy h;
+    // In the system, such a block's coarse levels end in a nearly singular dense block whose
+    // last pivot is rounding: the pseudo-inverse multiplies its constant mode by that, and a
+    // start that is not constant there (the coarse answer given to floaters) blows the column up.
+    h.dropped = drop_unanchored(fine);
     h.levels.push_back({std::move(fine), {}, {}, {}, {}});
     for (;;) {
         WalkLevel& level = h.levels.back();

@@ -46,7 +46,14 @@ struct WalkHierarchy {
     std::vector<WalkLevel> levels;  // [0] the operator it was built from
     std::vector<float> coarse_inverse;  // the coarsest operator's pseudo-inverse, dense row-major
                                         // (empty: coarsening stalled above kHierarchyMaxDense)
+    uint32_t dropped = 0;               // fine nodes taken out by drop_unanchored
 };
+
+// Takes out of the system (diagonal 0) every component, along edges of positive weight, that
+// holds no excess over its weights (no seed coupling, no unary term): its block is a bare graph
+// Laplacian, singular, and has no answer to find; its nodes keep whatever they start from.
+// Returns how many nodes it took out.
+uint32_t drop_unanchored(WalkMatrix& a);
 
 // Per node its aggregate (kHierarchyNone for a node out of the system); `count` the aggregates.
 std::vector<uint32_t> aggregate_nodes(const WalkMatrix& a, const HierarchyOptions& options, uint32_t& count);

@@ -3,6 +3,8 @@
 // labels): an unknown node gets b = gamma q + sum over seed neighbours w [seed label];
 // a seed holds its label's indicator in x and takes no part in the solve (b = 0, 1/diag = 0).
 // The operator's diagonal is degree + gamma; an isolated node without unary stays as it was.
+// Also per node its coupling out of the unknowns, gamma + the weights to seeds (walk_apply's
+// diagonal excess, summed from the terms themselves rather than as degree - the rest).
 #extension GL_GOOGLE_include_directive : require
 #include "common/dispatch.glsl"
 #include "segment/graph_shared.h"
@@ -20,6 +22,7 @@ layout(std430, binding = 7) readonly buffer Prior { vec4 prior[]; };    // WALK_
 layout(std430, binding = 8) buffer X { vec4 x[]; };                     // start, then solution
 layout(std430, binding = 9) writeonly buffer B { vec4 b[]; };
 layout(std430, binding = 10) writeonly buffer InvDiag { float inv_diag[]; };
+layout(std430, binding = 11) writeonly buffer Coupling { float coupling[]; };
 layout(push_constant) uniform Push { WalkPush pc; };
 #include "segment/walk_common.glsl"
 
@@ -41,19 +44,23 @@ void main() {
             b[i * vecs + c] = vec4(0.0);
         }
         inv_diag[i] = 0.0;
+        coupling[i] = 0.0;
         return;
     }
     vec4 acc[kWalkVecs];
     for (uint c = 0u; c < vecs; ++c) acc[c] = gamma[i] * prior[i * vecs + c];
+    float couple = gamma[i];
     uint half_ = n * k;
     for (uint s = rows[i]; s < rows[i + 1u]; ++s) {
         uint e = values[s];
         int other = seed[EDGE_COLUMN(e, half_, k)];
         if (other == kWalkFree) continue;
         float w = weight[edge_slot(e, half_)];
+        couple += w;
         for (uint c = 0u; c < vecs; ++c) acc[c] += w * indicator(other, c);
     }
     for (uint c = 0u; c < vecs; ++c) b[i * vecs + c] = acc[c];
     float diag = degree[i] + gamma[i];
     inv_diag[i] = diag > 0.0 ? 1.0 / diag : 0.0;
+    coupling[i] = couple;
 }

@@ -344,3 +344,86 @@ TEST_CASE("walk multigrid: the preconditioned walk matches Eigen's, on a long gr
         if (c.strip) CHECK(multigrid.iterations * 4 < jacobi.iterations);
     }
 }
+
+TEST_CASE("walk multigrid: a nearly singular walk (few seeds in a large graph) converges without falling back to Jacobi") {
+    // As on a real capture with a click per object: a few seeds in tens of thousands of nodes.
+    // The operator's product is then a small difference of large sums; computed as
+    // degree x_i - sum w x_j its float rounding, new at every product, stalled the multigrid
+    // CG near a relative residual of 1e-2 and then blew it up.
+    auto& ctx = test::gpu();
+    seg::RandomWalker walker(ctx);
+    data::GaussianCloud cloud;
+    ref::Rng rng(31);
+    for (int x = 0; x < 96; ++x)
+        for (int y = 0; y < 96; ++y)
+            for (int z = 0; z < 4; ++z) {
+                glm::vec3 p(0.02f * (float(x) + rng.uniform(-0.3f, 0.3f)), 0.02f * (float(y) + rng.uniform(-0.3f, 0.3f)),
+                            0.02f * (float(z) + rng.uniform(-0.3f, 0.3f)));
+                // Quadrants of contrasting colour: weak edges between them, and two without a seed
+                // of their own hang on those alone (the operator's nearly singular modes).
+                const float q = float((x / 48) + 2 * (y / 48));
+                const glm::vec3 rgb = q == 0 ? glm::vec3(0.0f) : q == 1 ? glm::vec3(1.0f, 0.0f, 0.0f)
+                                    : q == 2 ? glm::vec3(0.0f, 1.0f, 1.0f) : glm::vec3(1.0f);
+                // Opacities and colours spread: affinities over orders of magnitude.
+                ref::add_gaussian(cloud, p, glm::vec3(std::log(0.01f)), glm::vec4(1, 0, 0, 0), 4.0f - 8.0f * rng.uniform(0.0f, 1.0f),
+                                  ref::dc_from_rgb(rgb + 0.5f * glm::vec3(rng.uniform(0.0f, 1.0f), rng.uniform(0.0f, 1.0f), rng.uniform(0.0f, 1.0f))));
+            }
+    render::GpuScene gpu(ctx, cloud);
+    seg::KnnGraph graph(ctx);
+    auto domain = all_of(cloud);
+    graph.build(gpu, cloud, domain, seg::GraphOptions{});
+    const uint32_t n = uint32_t(domain.size()), labels = 2;
+    seg::WalkProblem pr;
+    pr.labels = labels;
+    pr.seed.assign(n, -1);
+    auto at = [](int x, int y, int z) { return uint32_t((x * 96 + y) * 4 + z); };
+    pr.seed[at(3, 3, 0)] = 0, pr.seed[at(3, 3, 1)] = 0;
+    pr.seed[at(92, 90, 2)] = 1;
+    ref::RefGraph rg;
+    rg.k = graph.k();
+    rg.neighbours = graph.neighbours();
+    rg.weights = graph.weights();
+    const auto want = ref::random_walk(rg, labels, pr.seed, {}, {});
+    auto worst_of = [&](const seg::WalkResult& got) {
+        double worst = 0;
+        for (size_t i = 0; i < want.size(); ++i) worst = std::max(worst, std::abs(double(got.x[i]) - want[i]));
+        return worst;
+    };
+    {
+        const auto got = walker.solve(graph, pr, seg::WalkOptions{});  // the default tolerance, 1e-3
+        INFO("iterations " << got.iterations << ", residual " << got.residual << ", retries " << got.jacobi_retries);
+        CHECK(got.jacobi_retries == 0);
+        CHECK(got.residual <= 1e-3);
+        CHECK(got.iterations <= 60);
+        CHECK(worst_of(got) < 2e-3);
+    }
+    {
+        // From a start far from the answer (x = 10), to 1e-5: the answer is as exact as asked.
+        // With the product's rounding, A x0 carried ~1e-6 x degree of noise per node, which the
+        // nearly singular operator turns into errors of 5e-4 however long the solve runs.
+        pr.start.assign(size_t(n) * labels, 10.0f);
+        seg::WalkOptions wo;
+        wo.tolerance = 1e-5f;
+        const auto got = walker.solve(graph, pr, wo);
+        INFO("iterations " << got.iterations << ", residual " << got.residual);
+        CHECK(got.residual <= 1e-5);
+        CHECK(worst_of(got) < 5e-5);
+    }
+}
+
+TEST_CASE("walk hierarchy: a component that no seed or unary term anchors leaves the system") {
+    // Nodes 0-3 a chain coupled to a seed at node 0 (its excess), 4-7 a bare chain, 8 alone.
+    seg::WalkMatrix a;
+    a.rows.push_back(0);
+    for (uint32_t i = 0; i < 9; ++i) {
+        double d = i == 0 ? 0.5 : 0.0;
+        for (uint32_t j : {i - 1, i + 1})
+            if (i < 8 && j < 8 && (i < 4) == (j < 4)) a.columns.push_back(j), a.weights.push_back(0.25f), d += 0.25;
+        a.rows.push_back(uint32_t(a.columns.size()));
+        a.diagonal.push_back(float(d));
+    }
+    CHECK(seg::drop_unanchored(a) == 4);
+    for (uint32_t i = 0; i < 4; ++i) CHECK(a.diagonal[i] > 0.0f);
+    for (uint32_t i = 4; i < 8; ++i) CHECK(a.diagonal[i] == 0.0f);
+    CHECK(a.diagonal[8] == 0.0f);  // was already out
+}
