@@ -48,6 +48,7 @@ void register_bench_ptv3(CLI::App& bench, std::function<void()>& run);
 void register_bench_train(CLI::App& bench, std::function<void()>& run);
 void register_infer(CLI::App& app, std::function<void()>& run);
 void register_clicks(CLI::App& app, std::function<void()>& run);
+void register_batch(CLI::App& app, std::function<void()>& run);
 
 // The median (mean of the middle two for an even count); 0 for none. Benchmarks report medians.
 // The process's peak resident memory (VmHWM), 0 where /proc is absent.

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
     pg::app::register_prompts(app, run);
     pg::app::register_infer(app, run);
     pg::app::register_clicks(app, run);
+    pg::app::register_batch(app, run);
     pg::app::register_train(app, run);
     pg::app::register_curves(app, run);
     try {
