@@ -100,14 +100,15 @@ Outcome run_job(const BatchJob& job, const BatchPaths& paths, const Shard& shard
     // folder if it was being moved into place (the marker says it is ours to replace).
     for (const auto& e : fs::directory_iterator(paths.temporaries()))
         if (e.path().stem().string() == name) fs::remove_all(e.path());  // <name>.<pid>
+    nlohmann::json record{{"job", name}, {"shard", shard.label()}, {"sharding", shard.source}, {"host", host_name()}};
     const fs::path moving = paths.state() / (name + ".moving");
     if (fs::exists(paths.job(name))) {
         if (!fs::exists(moving)) {
-            const std::string reason = paths.job(name).string() + " exists and was not written by this batch; move it away";
-            write_json(paths.failed(name), {{"job", name}, {"state", "failed"}, {"reason", reason}, {"host", host_name()},
-                                            {"shard", std::to_string(shard.index) + "/" + std::to_string(shard.count)},
-                                            {"finished", now_utc()}});
-            return {"failed", reason};
+            record["state"] = "failed";
+            record["reason"] = paths.job(name).string() + " exists and was not written by this batch; move it away";
+            record["finished"] = now_utc();
+            write_json(paths.failed(name), record);
+            return {"failed", record["reason"]};
         }
         fs::remove_all(paths.job(name));
     }
@@ -121,14 +122,10 @@ Outcome run_job(const BatchJob& job, const BatchPaths& paths, const Shard& shard
     const auto t0 = std::chrono::steady_clock::now();
     const int code = run_logged(args, paths.log(name));
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    nlohmann::json record{{"job", name},
-                          {"shard", std::to_string(shard.index) + "/" + std::to_string(shard.count)},
-                          {"sharding", shard.source},
-                          {"host", host_name()},
-                          {"seconds", seconds},
-                          {"exit_code", code},
-                          {"log", paths.log(name).string()},
-                          {"finished", now_utc()}};
+    record["seconds"] = seconds;
+    record["exit_code"] = code;
+    record["log"] = paths.log(name).string();
+    record["finished"] = now_utc();
     // segment's exit 2: some objects failed, the others were written; the job is complete.
     if ((code == 0 || code == 2) && fs::exists(tmp / "report.json")) {
         const auto report = nlohmann::json::parse(data::read_text_file(tmp / "report.json"));
@@ -192,10 +189,9 @@ void run_batch(const BatchArgs& a) {
     std::vector<const BatchJob*> mine;
     for (size_t k = 0; k < jobs.size(); ++k)
         if (shard.runs(k)) mine.push_back(&jobs[k]);
-    std::printf("shard %u/%u (%s): %zu of %zu job(s)\n", shard.index, shard.count, shard.source.c_str(), mine.size(),
-                jobs.size());
+    std::printf("shard %s (%s): %zu of %zu job(s)\n", shard.label().c_str(), shard.source.c_str(), mine.size(), jobs.size());
     std::fflush(stdout);
-    Progress progress("batch shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count), mine.size());
+    Progress progress("batch shard " + shard.label(), mine.size());
     std::vector<std::string> failed;
     for (const BatchJob* job : mine) {
         progress.step(job->name);

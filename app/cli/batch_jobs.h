@@ -30,6 +30,7 @@ struct Shard {
     uint32_t index = 0, count = 1;
     std::string source = "no sharding";
     bool runs(size_t job) const { return job % count == index; }
+    std::string label() const { return std::to_string(index) + "/" + std::to_string(count); }
 };
 Shard resolve_shard(const std::string& flag);
 

@@ -39,18 +39,17 @@ inline std::filesystem::path write_input(const uint8_t* data, size_t size, const
 // Runs a reader; an InputError / FormatError must name the file it was given.
 template <class F>
 void expect_clean(const std::filesystem::path& path, F&& read) {
+    auto names_file = [&](const std::exception& e) {
+        if (std::string(e.what()).find(path.parent_path().string()) != std::string::npos) return;
+        std::fprintf(stderr, "error without the file's name: %s\n", e.what());
+        std::abort();
+    };
     try {
         read();
     } catch (const data::InputError& e) {
-        if (std::string(e.what()).find(path.parent_path().string()) == std::string::npos) {
-            std::fprintf(stderr, "error without the file's name: %s\n", e.what());
-            std::abort();
-        }
+        names_file(e);
     } catch (const nn::FormatError& e) {
-        if (std::string(e.what()).find(path.parent_path().string()) == std::string::npos) {
-            std::fprintf(stderr, "error without the file's name: %s\n", e.what());
-            std::abort();
-        }
+        names_file(e);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "unexpected exception: %s\n", e.what());
         std::abort();
