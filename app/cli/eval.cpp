@@ -1,6 +1,8 @@
-// pointgauss eval --gt SUITE_DIR --pred PRED_DIR [--split test|train|all] [--json OUT.json]
-// [--plot OUT.png]: scores predictions against a synthetic benchmark suite, in the paper's table
-// layout; the plot shows IoU against the number of clicks of the click sessions.
+// pointgauss eval --gt SUITE_DIR --pred PRED_DIR [--split test|train|all] [--two-class CLASS]
+// [--json OUT.json] [--plot OUT.png]: scores predictions against a synthetic benchmark suite, in
+// the paper's table layout; --two-class scores one class of a semantic suite against all the
+// others as background (the paper's building/background table); the plot shows IoU against
+// the number of clicks of the click sessions.
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -17,7 +19,7 @@ namespace pg::app {
 namespace {
 
 struct EvalArgs {
-    std::string gt, pred, split = "test", json, plot;
+    std::string gt, pred, split = "test", two_class, json, plot;
 };
 
 // Mean IoU after k = 1..20 clicks: over all objects (bold), and per scene.
@@ -53,7 +55,7 @@ void write_clicks_plot(const data::eval::SuiteEval& result, const std::string& p
 void run_eval(const EvalArgs& a) {
     if (!a.plot.empty() && std::filesystem::path(a.plot).extension() != ".png")
         throw data::InputError("--plot", "must end in .png");
-    const auto result = data::eval::evaluate_suite(a.gt, a.pred, a.split);
+    const auto result = data::eval::evaluate_suite(a.gt, a.pred, a.split, a.two_class);
     if (!a.plot.empty()) write_clicks_plot(result, a.plot);
     if (!a.json.empty()) {
         const std::string text = data::eval::report_json(result).dump(2) + "\n";
@@ -72,6 +74,8 @@ void register_eval(CLI::App& app, std::function<void()>& run) {
         ->required();
     cmd->add_option("--split", args->split, "Scenes to score: test (default), train or all")
         ->check(CLI::IsMember({"test", "train", "all"}));
+    cmd->add_option("--two-class", args->two_class,
+                    "Semantic suites: score this class (name or id) against all others as background, the paper's table");
     cmd->add_option("--json", args->json, "Also write every value (per object, per view) to this JSON file");
     cmd->add_option("--plot", args->plot, "Also draw IoU against the number of clicks (needs clicks.json) to this PNG");
     cmd->callback([args, &run] { run = [args] { run_eval(*args); }; });

@@ -1,6 +1,8 @@
 // pointgauss synth: generates a SplatSeg-Synth suite, renders previews on the GPU for each
 // scene's contact sheet, and measures how well the ray-cast masks agree with the Gaussians'
-// labels as the renderer sees them (the label of the Gaussian that saturates each pixel).
+// labels as the renderer sees them (the label of the Gaussian that saturates each pixel), per
+// class too on semantic suites.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -34,6 +36,8 @@ struct SynthArgs {
 struct Agreement {
     uint64_t pixels = 0, agree = 0;     // over pixels where the renderer reaches tau
     uint64_t labelled_gt = 0, labelled_both = 0;
+    // Semantic suites: per class id, mask pixels (where tau is reached) and those rendered the same.
+    std::vector<uint64_t> class_pixels, class_agree;
 };
 
 // Renders every view and compares the label of each pixel's tau Gaussian with the mask.
@@ -41,6 +45,12 @@ Agreement measure_agreement(render::Renderer& renderer, const render::GpuScene& 
                             const data::synth::SynthScene& scene, const std::vector<int32_t>& labels,
                             std::vector<data::Image8>* previews, int preview_views) {
     Agreement a;
+    if (data::synth::suite_is_semantic(scene.suite)) {
+        int ids = 0;
+        for (const auto& c : scene.classes) ids = std::max(ids, c.id + 1);
+        a.class_pixels.assign(size_t(ids), 0);
+        a.class_agree.assign(size_t(ids), 0);
+    }
     size_t stride = std::max<size_t>(1, scene.cameras.size() / size_t(std::max(1, preview_views)));
     for (size_t v = 0; v < scene.cameras.size(); ++v) {
         const auto& cam = scene.cameras[v];
@@ -53,6 +63,10 @@ Agreement measure_agreement(render::Renderer& renderer, const render::GpuScene& 
             int32_t rendered = labels[size_t(id)];
             ++a.pixels;
             a.agree += rendered == int32_t(mask[p]);
+            if (mask[p] < a.class_pixels.size()) {
+                ++a.class_pixels[mask[p]];
+                a.class_agree[mask[p]] += rendered == int32_t(mask[p]);
+            }
             if (mask[p] != 0) {
                 ++a.labelled_gt;
                 a.labelled_both += rendered == int32_t(mask[p]);
@@ -68,6 +82,21 @@ Agreement measure_agreement(render::Renderer& renderer, const render::GpuScene& 
         }
     }
     return a;
+}
+
+// Semantic suites: per class, its Gaussians, its mask pixels where the renderer reaches tau and
+// the fraction of those rendered with the same class.
+nlohmann::json class_report(const data::synth::SynthScene& scene, const std::vector<int32_t>& labels, const Agreement& a) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& c : scene.classes) {
+        const uint64_t pixels = a.class_pixels[size_t(c.id)];
+        out.push_back({{"id", c.id},
+                       {"name", c.name},
+                       {"gaussians", std::count(labels.begin(), labels.end(), c.id)},
+                       {"mask_pixels", pixels},
+                       {"rendered_agreement", pixels ? double(a.class_agree[size_t(c.id)]) / double(pixels) : 0.0}});
+    }
+    return out;
 }
 
 void run_synth(const SynthArgs& a) {
@@ -117,13 +146,22 @@ void run_synth(const SynthArgs& a) {
                                     {"total_seconds", total_s},
                                     {"label_agreement", pixel_agreement},
                                     {"object_pixel_agreement", object_agreement}});
+        if (semantic) report["scenes"].back()["classes"] = class_report(scene, labels, agree);
         names.push_back(scene.name);
         progress.step(scene.name);
-        if (!isatty(2) || std::getenv("CI"))
+        if (!isatty(2) || std::getenv("CI")) {
             std::printf("%s: %zu Gaussians, %zu cameras, %zu instances, %.1f s (generate %.1f s), rendered labels agree "
                         "with the masks on %.2f%% of pixels (%.2f%% of object pixels)\n",
                         scene.name.c_str(), scene.cloud.size(), scene.cameras.size(), scene.instances.size(), total_s,
                         gen_s, 100 * pixel_agreement, 100 * object_agreement);
+            if (semantic) {
+                std::printf("  per class: Gaussians, agreement on its mask pixels:");
+                for (const auto& c : report["scenes"].back()["classes"])
+                    std::printf(" %s %zu %.1f%%;", c["name"].get<std::string>().c_str(), c["gaussians"].get<size_t>(),
+                                100.0 * c["rendered_agreement"].get<double>());
+                std::printf("\n");
+            }
+        }
     }
     progress.finish();
     data::synth::write_suite_index(suite, a.seed, names, out);

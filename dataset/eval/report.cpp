@@ -193,7 +193,8 @@ std::string click_row(const std::string& label, const std::optional<ClickScores>
 
 json report_json(const SuiteEval& e) {
     json j{{"suite", e.info.suite}, {"task", e.info.task}, {"seed", e.info.seed}, {"split", e.split},
-           {"scenes", json::array()}, {"skipped", e.skipped}};
+           {"two_class", nullptr}, {"scenes", json::array()}, {"skipped", e.skipped}};
+    if (e.info.two_class) j["two_class"] = {{"id", e.info.two_class->id}, {"name", e.info.two_class->name}};
     for (const auto& s : e.scenes) j["scenes"].push_back(scene_json(e.info, s));
     const Row m = mean_row(e);
     j["mean"] = {{"3d", opt(m.iou3d)}, {"2d", opt(m.iou2d)}, {"oa", opt(m.oa)}, {"clicks", nullptr}};
@@ -211,7 +212,9 @@ json report_json(const SuiteEval& e) {
 std::string report_markdown(const SuiteEval& e) {
     const SuiteInfo& info = e.info;
     std::string out = "### ";
-    out += info.suite + ", " + e.split + " split (" + info.task + ", %)\n\n";
+    out += info.suite + ", " + e.split + " split (" + info.task;
+    if (info.two_class) out += ", two-class view: " + info.two_class->name + " vs background (every other class)";
+    out += ", %)\n\n";
     std::vector<std::string> head{"scene"};
     if (info.semantic())
         for (const auto& c : info.classes) {

@@ -14,7 +14,8 @@ namespace pg::data::eval {
 nlohmann::json report_json(const SuiteEval& e);
 
 // Instance suites: | scene | 3D | 2D | OA |; semantic suites: | scene | <class> 3D |
-// <class> 2D | ... | 3D | 2D | OA | (3D/2D there are mIoU over classes). A second table
+// <class> 2D | ... | 3D | 2D | OA | (3D/2D there are mIoU over classes; the heading names a
+// two-class view, whose classes are background and the kept one). A second table
 // with IoU@k and NoC@t follows when any scene has clicks.json.
 std::string report_markdown(const SuiteEval& e);
 

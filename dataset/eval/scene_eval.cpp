@@ -4,6 +4,7 @@
 
 #include "dataset/error.h"
 #include "dataset/eval/label_files.h"
+#include "dataset/eval/two_class.h"
 
 namespace pg::data::eval {
 
@@ -23,13 +24,17 @@ void check_gt_ids(const fs::path& file, const std::vector<int32_t>& ids) {
 void score_gaussians(const SuiteInfo& suite, const fs::path& gt_ply, const fs::path& pred_ply,
                      const std::vector<int32_t>& class_ids, SceneEval& s) {
     const char* prop = suite.label_property();
-    const auto gt = read_gaussian_labels(gt_ply, prop);
+    auto gt = read_gaussian_labels(gt_ply, prop);
     check_gt_ids(gt_ply, gt);
-    const auto pred = read_gaussian_labels(pred_ply, prop);
+    auto pred = read_gaussian_labels(pred_ply, prop);
     if (pred.size() != gt.size())
         throw InputError(pred_ply.string(), std::to_string(pred.size()) + " Gaussians, the ground truth " +
                                                 gt_ply.string() + " has " + std::to_string(gt.size()));
     if (suite.semantic()) {
+        if (suite.two_class) {
+            to_two_class(gt, suite.two_class->id);
+            to_two_class(pred, suite.two_class->id);
+        }
         s.semantic_3d = semantic_scores_3d(gt, pred, class_ids);
         return;
     }
@@ -49,12 +54,16 @@ void score_masks(const SuiteInfo& suite, const fs::path& gt_dir, const fs::path&
     if (suite.semantic()) classes.emplace(size_t(kMaxLabel) + 1);
     for (const auto& v : views) {
         const fs::path gt_file = gt_dir / (v + ".png"), pred_file = pred_dir / (v + ".png");
-        const Image16 gt = read_mask(gt_file);
+        Image16 gt = read_mask(gt_file);
         if (!fs::exists(pred_file)) throw InputError(pred_file.string(), "missing: the ground truth has this view");
-        const Image16 pred = read_mask(pred_file);
+        Image16 pred = read_mask(pred_file);
         if (pred.width != gt.width || pred.height != gt.height)
             throw InputError(pred_file.string(), "mask is " + size_text(pred) + ", the ground truth " + gt_file.string() +
                                                      " is " + size_text(gt));
+        if (suite.two_class) {
+            to_two_class(gt.pixels, suite.two_class->id);
+            to_two_class(pred.pixels, suite.two_class->id);
+        }
         if (classes) classes->add(gt.pixels, pred.pixels);
         else instances.add_view(v, gt.pixels, pred.pixels);
     }

@@ -3,14 +3,17 @@
 #include <stdexcept>
 
 #include "dataset/error.h"
+#include "dataset/eval/two_class.h"
 
 namespace pg::data::eval {
 
 namespace fs = std::filesystem;
 
-SuiteEval evaluate_suite(const fs::path& gt_dir, const fs::path& pred_dir, const std::string& split) {
+SuiteEval evaluate_suite(const fs::path& gt_dir, const fs::path& pred_dir, const std::string& split,
+                         const std::string& two_class) {
     SuiteEval out;
     out.info = read_suite_json(gt_dir);
+    if (!two_class.empty()) use_two_class_view(out.info, two_class);
     out.split = split;
     if (!fs::is_directory(pred_dir)) throw InputError(pred_dir.string(), "no such folder");
     const std::vector<std::string>* scenes = nullptr;

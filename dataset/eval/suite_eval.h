@@ -17,8 +17,9 @@ struct SuiteEval {
 };
 
 // InputError for: a missing PRED_DIR, a split scene listed in suite.json with no folder
-// in SUITE_DIR, and a PRED_DIR holding no scene of the split.
+// in SUITE_DIR, and a PRED_DIR holding no scene of the split. A non-empty `two_class` (a
+// class name or id) scores the two-class view of that class (two_class.h).
 SuiteEval evaluate_suite(const std::filesystem::path& gt_dir, const std::filesystem::path& pred_dir,
-                         const std::string& split);
+                         const std::string& split, const std::string& two_class = "");
 
 }  // namespace pg::data::eval

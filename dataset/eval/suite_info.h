@@ -3,6 +3,7 @@
 // SUITE_DIR/suite.json and SUITE_DIR/<scene>/meta.json.
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,8 @@ struct SuiteInfo {
     uint64_t seed = 0;
     std::vector<std::string> scenes, train, test;
     std::vector<ClassInfo> classes;
+    // Set by `eval --two-class` (two_class.h): scores see this class against background.
+    std::optional<ClassInfo> two_class;
 
     bool semantic() const { return task == "semantic"; }
     // The per-Gaussian PLY property and mask meaning of the task: "instance" or "class".

@@ -18,9 +18,11 @@ void cast_row(const ShapeSet& shapes, const Camera& cam, bool semantic, int v, u
     for (int u = 0; u < cam.width; ++u) {
         Hit hit;
         uint16_t id = 0;
-        if (shapes.first_hit(camera_ray(cam, u + 0.5, v + 0.5), 0.0, kInf, hit)) {
+        const Ray ray = camera_ray(cam, u + 0.5, v + 0.5);
+        if (shapes.first_hit(ray, 0.0, kInf, hit)) {
             const Shape& s = shapes.shapes()[size_t(hit.shape)];
-            id = uint16_t(std::clamp(semantic ? s.cls : s.instance, 0, 65535));
+            const int label = semantic ? s.class_of(s.frame.to_local(ray.origin + hit.t * ray.dir)) : s.instance;
+            id = uint16_t(std::clamp(label, 0, 65535));
         }
         row[u] = id;
     }

@@ -1,9 +1,12 @@
-// Campus suite (semantic): a few hundred metres of university campus on gentle terrain.
-// Buildings of several forms are class 1 (each its own instance); roads, lawns, sports
-// fields, parking lots with cars, trees and lamp posts are class 0. Some buildings adjoin.
+// Campus suite (semantic): a few hundred metres of university campus on gentle terrain, in
+// seven classes (suites.h): buildings of several forms (each its own instance, some adjoining),
+// roads and parking lots, trees and lawns, parked cars, lamp posts, sports fields; sky and
+// floaters are "other". The terrain is one shape whose class varies with position.
+#include <algorithm>
 #include <cmath>
 
 #include "dataset/synth/buildings.h"
+#include "dataset/synth/campus_ground.h"
 #include "dataset/synth/suites.h"
 #include "dataset/synth/texture.h"
 #include "dataset/synth/vegetation.h"
@@ -15,13 +18,6 @@ namespace {
 constexpr double kTerrain = 1100.0, kRoadHalf = 7.0;
 constexpr int kGrid = 161;
 constexpr double kBuildingSigma = 0.6, kGroundSigma = 2.4, kTreeSigma = 0.7, kCarSigma = 0.4;
-
-enum class LotUse { Buildings, Sports, Parking, Park };
-
-struct Lot {
-    glm::dvec2 lo, hi;
-    LotUse use;
-};
 
 Material mat(Albedo a, float gloss = 0.02f) {
     Material m;
@@ -55,7 +51,12 @@ FacadeStyle campus_facade(Rng& rng) {
 
 }  // namespace
 
-std::vector<ClassInfo> campus_classes() { return {{0, "background"}, {1, "building"}}; }
+std::vector<ClassInfo> campus_classes() {
+    return {{kCampusOther, "other"},     {kCampusBuilding, "building"},
+            {kCampusRoad, "road"},       {kCampusVegetation, "vegetation"},
+            {kCampusVehicle, "vehicle"}, {kCampusStreetFurniture, "street furniture"},
+            {kCampusOtherGround, "other ground"}};
+}
 
 Layout build_campus(uint64_t seed) {
     Rng rng(seed);
@@ -70,7 +71,12 @@ Layout build_campus(uint64_t seed) {
     for (double y = -210.0; y < 150.0;) ys.push_back(y += rng.uniform(95.0, 140.0));
     xs.back() = std::max(xs.back(), 210.0);
     ys.back() = std::max(ys.back(), 210.0);
-    std::vector<Lot> lots;
+    auto plan = std::make_shared<CampusPlan>();
+    plan->road_x = xs;
+    plan->road_y = ys;
+    plan->road_half = kRoadHalf;
+    plan->terrain_half = 0.5 * kTerrain;
+    std::vector<Lot>& lots = plan->lots;
     for (size_t i = 0; i + 1 < xs.size(); ++i)
         for (size_t j = 0; j + 1 < ys.size(); ++j) {
             Lot lot{{xs[i] + kRoadHalf + 4.0, ys[j] + kRoadHalf + 4.0}, {xs[i + 1] - kRoadHalf - 4.0, ys[j + 1] - kRoadHalf - 4.0},
@@ -79,6 +85,14 @@ Layout build_campus(uint64_t seed) {
             lot.use = r < 0.7 ? LotUse::Buildings : (r < 0.8 ? LotUse::Sports : (r < 0.9 ? LotUse::Parking : LotUse::Park));
             lots.push_back(lot);
         }
+    // Every scene holds every class: a use no lot drew takes a lot of buildings.
+    for (LotUse use : {LotUse::Sports, LotUse::Parking, LotUse::Park}) {
+        if (std::any_of(lots.begin(), lots.end(), [&](const Lot& l) { return l.use == use; })) continue;
+        std::vector<size_t> free;
+        for (size_t k = 0; k < lots.size(); ++k)
+            if (lots[k].use == LotUse::Buildings) free.push_back(k);
+        if (free.size() > 1) lots[free[size_t(rng.below(int(free.size())))]].use = use;
+    }
     auto ground_at = [&](const glm::dvec2& p) { return terrain_height(p, ground_seed); };
 
     // Buildings: rows of one to three per lot (two rows in deep lots), sometimes joined.
@@ -110,8 +124,14 @@ Layout build_campus(uint64_t seed) {
                 b.sink = 4.0;
                 const glm::dvec2 c(x + 0.5 * b.length, y0 + rng.uniform(0.5 * b.depth, depth_room - 0.5 * b.depth));
                 const double base = ground_at(c);
-                const int id = L.add_instance(1, "building_" + std::to_string(++building));
-                L.add_parts(make_campus_building(rng, b), Frame::at({c, base}), kBuildingSigma, id, 1);
+                const int id = L.add_instance(kCampusBuilding, "building_" + std::to_string(++building));
+                const std::vector<Part> parts = make_campus_building(rng, b);
+                L.add_parts(parts, Frame::at({c, base}), kBuildingSigma, id, kCampusBuilding);
+                for (const Part& p : parts) {  // the blocks standing on the ground (not roofs, plant rooms)
+                    const Aabb box = transform_box(p.frame, p.prim->bounds());
+                    if (box.lo.z < 0.0)
+                        plan->built.push_back({c + 0.5 * glm::dvec2(box.lo + box.hi), 0.5 * glm::dvec2(box.hi - box.lo)});
+                }
                 footprints.push_back({c, 0.5 * glm::dvec2(b.length, b.depth), base});
                 x += b.length + (joined ? 0.0 : rng.uniform(10.0, 25.0));
             }
@@ -133,35 +153,11 @@ Layout build_campus(uint64_t seed) {
     for (int j = 0; j < kGrid; ++j)
         for (int i = 0; i < kGrid; ++i)
             heights[size_t(j) * kGrid + size_t(i)] = levelled({-0.5 * kTerrain + i * cell, -0.5 * kTerrain + j * cell});
-    const Albedo lawn = grass(glm::vec3(0.3f, 0.45f, 0.17f), ground_seed, 15.0);
-    const Albedo tarmac = asphalt(glm::vec3(0.3f), ground_seed + 1);
-    const std::vector<Lot> lot_copy = lots;
-    const std::vector<double> road_x = xs, road_y = ys;
-    auto ground = [=](const glm::dvec3& p, const glm::dvec3& n) {
-        for (double x : road_x)
-            if (std::abs(p.x - x) < kRoadHalf) return std::abs(p.x - x) < 0.15 && std::fmod(p.y + 1e4, 8.0) < 4.0 ? glm::vec3(0.9f) : tarmac(p, n);
-        for (double y : road_y)
-            if (std::abs(p.y - y) < kRoadHalf) return std::abs(p.y - y) < 0.15 && std::fmod(p.x + 1e4, 8.0) < 4.0 ? glm::vec3(0.9f) : tarmac(p, n);
-        for (const Lot& lot : lot_copy) {
-            if (p.x < lot.lo.x || p.y < lot.lo.y || p.x > lot.hi.x || p.y > lot.hi.y) continue;
-            const glm::dvec2 c = 0.5 * (lot.lo + lot.hi), h = 0.5 * (lot.hi - lot.lo);
-            const glm::dvec2 q = (glm::dvec2(p) - c) / h;  // -1..1 within the lot
-            if (lot.use == LotUse::Sports) {
-                const double track = std::hypot(std::max(0.0, std::abs(q.x) - 0.35) / 0.55, q.y / 0.8);
-                if (track > 0.82 && track < 1.0) return glm::vec3(0.62f, 0.25f, 0.2f);
-                if (track <= 0.82 && (std::abs(q.x) < 0.01 || std::abs(track - 0.8) < 0.01)) return glm::vec3(0.95f);
-                if (track <= 0.82) return glm::vec3(0.22f, 0.5f, 0.2f) * (std::fmod(p.x + 1e4, 10.0) < 5.0 ? 1.0f : 0.9f);
-            }
-            if (lot.use == LotUse::Parking && std::abs(q.x) < 0.85 && std::abs(q.y) < 0.85) {
-                const bool line = std::fmod(p.x + 1e4, 2.6) < 0.12 && std::abs(std::fmod(q.y + 10.0, 0.5) - 0.25) > 0.04;
-                return line ? glm::vec3(0.9f) : tarmac(p, n);
-            }
-        }
-        return lawn(p, n);
-    };
-    L.add(make_heightfield(kGrid, kGrid, kTerrain, kTerrain, heights, -40.0), Frame{}, mat(ground), kGroundSigma);
+    Shape& terrain = L.add(make_heightfield(kGrid, kGrid, kTerrain, kTerrain, heights, -40.0), Frame{},
+                           ground_material(plan, ground_seed), kGroundSigma, 0, kCampusOtherGround);
+    terrain.class_at = ground_class(plan);
 
-    // Background: trees along roads and in parks, cars in the parking lots, lamp posts.
+    // Trees along roads and in parks, cars in the parking lots, lamp posts.
     auto clear_of_buildings = [&](const glm::dvec2& q, double margin) {
         for (const Footprint& f : footprints)
             if (std::abs(q.x - f.c.x) < f.half.x + margin && std::abs(q.y - f.c.y) < f.half.y + margin) return false;
@@ -170,7 +166,7 @@ Layout build_campus(uint64_t seed) {
     auto add_tree = [&](const glm::dvec2& q) {
         const Frame f = Frame::at({q, levelled(q) - 0.3}) * Frame::rotation({0, 0, 1}, rng.uniform(0, 6.3));
         for (const Part& p : make_tree(rng, rng.uniform(8.0, 16.0), rng.chance(0.2)))
-            L.add(p.prim, f * p.frame, p.material, kTreeSigma * p.sigma_scale);
+            L.add(p.prim, f * p.frame, p.material, kTreeSigma * p.sigma_scale, 0, kCampusVegetation);
     };
     for (double x : xs)
         for (double y = -200.0; y < 200.0; y += rng.uniform(14.0, 24.0)) {
@@ -190,19 +186,21 @@ Layout build_campus(uint64_t seed) {
             for (double row = -0.5; row <= 0.5; row += 0.5)
                 for (double x = c.x - 0.8 * h.x; x < c.x + 0.8 * h.x; x += 2.6) {
                     if (!rng.chance(0.55)) continue;
-                    const CarShape car = make_car(rng, car_paint(rng));
+                    CarShape car = make_car(rng, car_paint(rng));
+                    for (Part& p : car.parts) p.material.keep_thin = true;  // about a pixel wide in the views
                     const glm::dvec2 q(x + 1.3, c.y + row * h.y);
                     L.add_parts(car.parts, Frame::at({q, levelled(q)}) * Frame::rotation({0, 0, 1}, 0.5 * kPi + (rng.chance(0.5) ? kPi : 0.0)),
-                                kCarSigma, 0, 0);
+                                kCarSigma, 0, kCampusVehicle);
                 }
         }
     }
     Material steel = mat(plain(glm::vec3(0.3f), 0.05f, 1.0), 0.1f);
     steel.aligned = 1.0f;
+    steel.keep_thin = true;
     for (double y : ys)
         for (double x = -200.0; x < 200.0; x += 30.0) {
             const glm::dvec2 q(x, y + kRoadHalf + 1.0);
-            if (clear_of_buildings(q, 2.0)) L.add(make_capsule(0.12, 8.0), Frame::at({q, levelled(q)}), steel, 0.25);
+            if (clear_of_buildings(q, 2.0)) L.add(make_capsule(0.12, 8.0), Frame::at({q, levelled(q)}), steel, 0.25, 0, kCampusStreetFurniture);
         }
 
     L.orbit.target = glm::dvec3(0.0, 0.0, ground_at({0.0, 0.0}) + 10.0);

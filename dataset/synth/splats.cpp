@@ -98,7 +98,6 @@ void push_surfel(SplatList& out, const Surfel& s, int sh_degree, Rng& rng, int i
 
 namespace {
 
-// Light reaching a surface point with normal n, with a shadow ray towards the sun.
 // Light reaching a surface point with normal n, with a shadow ray towards the sun; `sunlit`
 // tells whether the sun reaches it (for the specular lobe).
 float lighting(const ShapeSet& set, const Lighting& L, const glm::dvec3& p, const glm::dvec3& n, double eps, bool& sunlit) {
@@ -119,6 +118,17 @@ double nearest_distance(const std::vector<glm::dvec3>& viewpoints, const glm::dv
     double d2 = viewpoints.empty() ? 0.0 : kInf;
     for (const glm::dvec3& v : viewpoints) d2 = std::min(d2, glm::dot(v - p, v - p));
     return std::sqrt(d2);
+}
+
+// The unit direction (local) along a painted edge at a surface point: across the gradient of
+// the distance to it, by central differences; zero where that has no clear gradient.
+glm::dvec3 along_edge(const PatternEdge& edge, const SurfacePoint& sp, double step) {
+    glm::dvec3 t = sp.tangent - sp.n * glm::dot(sp.n, sp.tangent);
+    t = glm::length(t) < 1e-9 ? perpendicular(sp.n) : glm::normalize(t);
+    const glm::dvec3 b = glm::cross(sp.n, t);
+    const double gt = edge(sp.p + step * t) - edge(sp.p - step * t), gb = edge(sp.p + step * b) - edge(sp.p - step * b);
+    const double len = std::hypot(gt, gb);
+    return len < 0.2 * step ? glm::dvec3(0.0) : (gt * b - gb * t) / len;
 }
 
 bool faces_a_viewpoint(const std::vector<glm::dvec3>& viewpoints, const glm::dvec3& p, const glm::dvec3& n) {
@@ -147,11 +157,16 @@ SplatList splat_shape(const ShapeSet& set, int index, const SplatStyle& style, u
         const glm::dvec3 p = shape.frame.to_world(sp.p);
         // Size by the local detail and the distance from the focus (a coarser capture far away,
         // still bounded by the feature size); candidates come at the finest size, kept with
-        // probability (finest/size)^2 so the density is 1/size^2.
+        // probability finest^2 / area so the density is 1/area. Near a painted edge the width
+        // across it is at most a quarter of the distance to it: long, thin splats along the
+        // edge, as an optimiser fits a border.
         const double growth = std::clamp(glm::length(p - style.focus) / style.detail_radius, 1.0, style.max_growth);
         const double size = std::clamp(0.5 * sp.feature, finest * growth, sigma * growth);
-        const double keep = (finest / size) * (finest / size);
-        if (rng.uniform() >= keep) continue;
+        const double draw = rng.uniform();
+        if (draw >= finest / size) continue;  // whatever the width (>= finest): most go before the edge query
+        const double edge = m.edge ? m.edge(sp.p) : kInf;
+        const double across = std::clamp(0.25 * edge, finest, size);
+        if (draw >= (finest / size) * (finest / across)) continue;
         const glm::dvec3 n = glm::normalize(shape.frame.dir_to_world(sp.n));
         if (!faces_a_viewpoint(style.viewpoints, p, n)) continue;
         if (set.inside(p + n * eps, index)) continue;  // touching another solid: never seen
@@ -161,7 +176,16 @@ SplatList splat_shape(const ShapeSet& set, int index, const SplatStyle& style, u
         // one half at the true outline, as an optimiser fitting the views would place them.
         const double pixel = style.pixel_angle * nearest_distance(style.viewpoints, p);
         const double inset = kSilhouetteInset * std::sqrt(size * size + kLowPassVariance * pixel * pixel);
-        if (sp.feature < inset) continue;
+        double sink = m.sink ? inset : 0.0, cover = 1.0;
+        if (sp.feature < inset) {
+            // Thinner than the blur: none, or (keep_thin) a share of them at its core, as faint
+            // as the part covers of its blurred footprint.
+            cover = sp.feature / inset;
+            if (!m.keep_thin || rng.uniform() >= cover) continue;
+            sink = m.sink ? sp.feature : 0.0;
+        }
+        // Painted regions are fitted like outlines too: no centre within the inset of their edge.
+        if (edge < kSilhouetteInset * std::sqrt(across * across + kLowPassVariance * pixel * pixel)) continue;
 
         Surfel s;
         s.n = n;
@@ -173,26 +197,33 @@ SplatList splat_shape(const ShapeSet& set, int index, const SplatStyle& style, u
         const double sz = size * rng.uniform(0.8, 1.25), aniso = 1.0 + std::min(1.5, std::abs(0.35 * rng.normal()));
         s.su = sz * std::sqrt(aniso);
         s.sv = sz / std::sqrt(aniso);
+        if (across < size) {
+            const glm::dvec3 along = along_edge(m.edge, sp, 0.5 * across);
+            if (along != glm::dvec3(0.0)) {
+                s.tangent = shape.frame.dir_to_world(along);
+                s.sv *= across / size;
+            }
+        }
         s.sn = std::min(s.su, s.sv) * rng.uniform(0.05, 0.2);
-        s.pos = p + n * (0.3 * s.sn * rng.normal() - inset);
+        s.pos = p + n * (0.3 * s.sn * rng.normal() - sink);
         if (m.fuzz > 0.0f) {  // foliage: tilted, thicker, spread through a shell
             s.n = glm::normalize(n + double(m.fuzz) * 0.9 * glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
             s.sn = std::min(s.su, s.sv) * rng.uniform(0.2, 0.5);
-            s.pos = p + n * (double(m.fuzz) * sigma * rng.normal() - inset);
+            s.pos = p + n * (double(m.fuzz) * sigma * rng.normal() - sink);
         }
         glm::vec3 albedo = m.albedo ? m.albedo(sp.p, sp.n) : glm::vec3(0.5f);
         const float bright = 1.0f + m.colour_noise * float(rng.normal());
         for (int c = 0; c < 3; ++c) albedo[c] *= bright * (1.0f + 0.3f * m.colour_noise * float(rng.normal()));
         bool sunlit = false;
         s.colour = albedo * lighting(set, style.light, p, n, 4.0 * eps + 1e-9, sunlit);
-        s.opacity = sample_opacity(rng, m.fuzz);
+        s.opacity = sample_opacity(rng, m.fuzz) * float(cover);
         // Specular: the sun mirrored in the surface (the camera-to-Gaussian direction that
         // sees it is minus the reflected ray); the sky's softer sheen when in shadow.
         const glm::dvec3 reflected = 2.0 * glm::dot(n, style.light.sun) * n - style.light.sun;
         s.lobe_dir = -reflected;
         s.lobe = m.gloss * (sunlit ? 1.5f : 0.4f);
         s.gloss = 0.1f * m.gloss;
-        push_surfel(out, s, style.sh_degree, rng, shape.instance, shape.cls);
+        push_surfel(out, s, style.sh_degree, rng, shape.instance, shape.class_of(sp.p));
     }
     return out;
 }

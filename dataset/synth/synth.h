@@ -1,8 +1,8 @@
 #pragma once
 // SplatSeg-Synth: procedurally generated 3DGS scenes with exact ground truth, in four
 // suites after the paper's SplatSeg-360 (desk, vehicles, residence: instances; campus:
-// building vs background). A scene is analytic shapes; its Gaussians are sampled on them
-// like a trained capture, and its per-view masks are ray cast against the shapes.
+// seven semantic classes, suites.h). A scene is analytic shapes; its Gaussians are sampled
+// on them like a trained capture, and its per-view masks are ray cast against the shapes.
 //
 // Folder layout (the benchmark contract, read by `pointgauss eval` and the click simulator):
 //   SUITE/suite.json, SUITE/<scene>/{scene.ply, cameras.json, sparse/0/, masks/<view>.png,
@@ -60,7 +60,7 @@ struct SynthScene {
 SynthScene make_suite_scene(SuiteKind suite, int scene_index, uint64_t seed, const SynthOptions& options = {});
 
 // Ground-truth mask of one camera: per pixel centre (u + 0.5, v + 0.5), the instance id of
-// the first shape hit (semantic: its class id), 0 for background or nothing.
+// the first shape hit (semantic: its class at the hit point), 0 for background or nothing.
 std::vector<uint16_t> cast_mask(const ShapeSet& shapes, const Camera& camera, bool semantic);
 // All cameras, rows shared among `threads` workers (0: all hardware threads).
 std::vector<std::vector<uint16_t>> cast_masks(const ShapeSet& shapes, const std::vector<Camera>& cameras, bool semantic,

@@ -221,6 +221,32 @@ TEST_CASE("prompts, segment and eval run the benchmark protocol on the bundled s
     CHECK_FALSE(fs::exists(own / "report.json"));
 }
 
+TEST_CASE("eval --two-class scores a campus suite as building vs background") {
+    auto dir = pg::test::scratch("cli-two-class");
+    fs::remove_all(dir);
+    auto s = run("synth --suite campus --scenes 1 --seed 3 --density 0.02 --cameras 2 --width 64 --height 48 --out " +
+                 (dir / "suite").string());
+    INFO(s.out);
+    REQUIRE(s.code == 0);
+    auto suite = nlohmann::json::parse(pg::data::read_text_file(dir / "suite" / "suite.json"));
+    CHECK(suite["classes"].size() == 7);
+    // The ground truth as its own prediction: perfect in either view.
+    const std::string base = "eval --gt " + (dir / "suite").string() + " --pred " + (dir / "suite").string() + " --split all";
+    auto e = run(base + " --two-class building --json " + (dir / "eval.json").string());
+    INFO(e.out);
+    REQUIRE(e.code == 0);
+    CHECK(e.out.find("two-class view: building vs background") != std::string::npos);
+    CHECK(e.out.find("| scene | background 3D | background 2D | building 3D | building 2D | 3D | 2D | OA |") != std::string::npos);
+    auto j = nlohmann::json::parse(pg::data::read_text_file(dir / "eval.json"));
+    CHECK(j["two_class"]["id"] == 1);
+    CHECK(j["scenes"][0]["3d"]["classes"].size() == 2);
+    CHECK(j["scenes"][0]["3d"]["miou"].get<double>() == Approx(1.0));
+    auto bad = run(base + " --two-class tree --json " + (dir / "bad.json").string());
+    CHECK(bad.code == 1);
+    CHECK(bad.out.find("--two-class") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "bad.json"));
+}
+
 TEST_CASE("segment: one object's bad click fails that object only, --strict fails the run") {
     auto dir = pg::test::scratch("cli-partial");
     fs::remove_all(dir);

@@ -220,6 +220,58 @@ TEST_CASE("eval folders: a semantic suite reports per-class 3D and 2D IoU with m
     CHECK(has(md, "| campus_000 | 40.00 | 66.67 | 60.00 | 83.33 | 50.00 | 75.00 | 87.50 |\n"));
 }
 
+TEST_CASE("eval folders: the two-class view maps every other class to background in GT and prediction", "[eval]") {
+    const fs::path root = fresh("eval-two-class"), gt = root / "suite", pred = root / "pred";
+    write_suite_json(gt, "campus", "semantic", {}, {"campus_000"},
+                     json::array({{{"id", 0}, {"name", "other"}}, {{"id", 1}, {"name", "building"}}, {{"id", 2}, {"name", "road"}}}));
+    SceneFiles s;
+    s.name = "campus_000";
+    s.gt = {1, 1, 1, 1, 2, 2, 2, 0, 0, 0};
+    s.pred = {1, 1, 1, 2, 2, 0, 2, 0, 1, 2};
+    s.width = s.height = 2;
+    s.views = {{"v0", {1, 2, 0, 2}, {1, 0, 2, 2}}};
+    write_scene(gt, pred, "class", s);
+
+    // Three classes. 3D: other 1/4, building 3/5, road 2/5, OA 6/10. 2D: 0, 1, 1/3, OA 2/4.
+    const json multi = pg::data::eval::report_json(pg::data::eval::evaluate_suite(gt, pred, "test"));
+    INFO(multi.dump(1));
+    CHECK(multi["two_class"].is_null());
+    CHECK(multi["scenes"][0]["3d"]["miou"].get<double>() == Approx((0.25 + 0.6 + 0.4) / 3.0));
+    CHECK(multi["scenes"][0]["3d"]["oa"].get<double>() == Approx(0.6));
+    CHECK(multi["scenes"][0]["2d"]["miou"].get<double>() == Approx(4.0 / 9.0));
+
+    // Building vs background: road and other merge in both. 3D: background 5/7, building 3/5
+    // (unchanged), OA 8/10. 2D: both views of the classes agree everywhere.
+    for (const char* which : {"building", "1"}) {
+        const auto result = pg::data::eval::evaluate_suite(gt, pred, "test", which);
+        const json j = pg::data::eval::report_json(result);
+        INFO(which << ": " << j.dump(1));
+        CHECK(j["two_class"]["name"] == "building");
+        const json& s0 = j["scenes"][0];
+        REQUIRE(s0["3d"]["classes"].size() == 2);
+        CHECK(s0["3d"]["classes"][0]["name"] == "background");
+        CHECK(s0["3d"]["classes"][0]["iou"].get<double>() == Approx(5.0 / 7.0));
+        CHECK(s0["3d"]["classes"][1]["iou"].get<double>() == Approx(0.6));
+        CHECK(s0["3d"]["miou"].get<double>() == Approx((5.0 / 7.0 + 0.6) / 2.0));
+        CHECK(s0["3d"]["oa"].get<double>() == Approx(0.8));
+        CHECK(s0["2d"]["miou"].get<double>() == Approx(1.0));
+        CHECK(s0["2d"]["oa"].get<double>() == Approx(1.0));
+        const std::string md = pg::data::eval::report_markdown(result);
+        INFO(md);
+        CHECK(has(md, "two-class view: building vs background"));
+        CHECK(has(md, "| scene | background 3D | background 2D | building 3D | building 2D | 3D | 2D | OA |\n"));
+        CHECK(has(md, "| campus_000 | 71.43 | 100.00 | 60.00 | 100.00 | 65.71 | 100.00 | 100.00 |\n"));
+    }
+
+    // An unknown class, the background itself, an instance suite: errors naming the option.
+    for (const char* bad : {"tree", "7", "other", "0"})
+        CHECK_THROWS_WITH(pg::data::eval::evaluate_suite(gt, pred, "test", bad), Catch::Contains("--two-class"));
+    const fs::path inst = root / "instance";
+    write_suite_json(inst, "desk", "instance", {}, {"desk_000"}, json::array());
+    write_scene(inst, root / "inst_pred", "instance", perfect_scene("desk_000"));
+    CHECK_THROWS_WITH(pg::data::eval::evaluate_suite(inst, root / "inst_pred", "test", "1"), Catch::Contains("instance suite"));
+}
+
 TEST_CASE("eval folders: bad input is an InputError naming the file", "[eval]") {
     const fs::path root = fresh("eval-errors"), gt = root / "suite";
     write_suite_json(gt, "desk", "instance", {}, {"desk_000"}, json::array());

@@ -75,7 +75,7 @@ glm::dvec3 splat_normal(const GaussianCloud& cloud, size_t i) {
 }  // namespace
 
 TEST_CASE("synth: the same seed gives the same bytes, another seed a different scene", "[synth]") {
-    for (SuiteKind suite : {SuiteKind::Desk, SuiteKind::Residence}) {
+    for (SuiteKind suite : {SuiteKind::Desk, SuiteKind::Residence, SuiteKind::Campus}) {
         const fs::path a = scratch("det_a"), b = scratch("det_b"), c = scratch("det_c");
         write_scene(make_suite_scene(suite, 1, 42, small_options()), a);
         SynthOptions four_threads = small_options();
@@ -136,7 +136,15 @@ TEST_CASE("synth: every instance is in the PLY and in some mask, files follow th
             CHECK(inst["gaussians"].get<size_t>() > 0);
             CHECK(in_masks.count(semantic ? c : id));
         }
-        for (int id : in_masks) CHECK((id == 0 || (semantic ? id == 1 : in_ply.count(id))));
+        for (int id : in_masks) CHECK((id == 0 || (semantic ? size_t(id) < s.classes.size() : in_ply.count(id))));
+        if (semantic) {  // every class, the thin ones (lamp posts, cars) included, in both
+            std::set<int> classes_in_ply(cls->begin(), cls->end());
+            for (const ClassInfo& c : s.classes) {
+                INFO("class " << c.id << " " << c.name);
+                CHECK(classes_in_ply.count(c.id));
+                CHECK(in_masks.count(c.id));
+            }
+        }
         const auto inria = load_cameras(dir / "cameras.json"), colmap = load_cameras(dir / "sparse" / "0");
         REQUIRE(inria.size() == s.cameras.size());
         REQUIRE(colmap.size() == s.cameras.size());
@@ -160,7 +168,7 @@ TEST_CASE("synth: masks agree with the labelled Gaussians that the cameras see",
         for (size_t v = 0; v < s.cameras.size(); v += 2) {
             const Camera& cam = s.cameras[v];
             for (size_t i = 0; i < s.cloud.size(); ++i) {
-                if (instance[i] == 0) continue;
+                if ((semantic ? label[i] : instance[i]) == 0) continue;  // campus: every class but sky and floaters
                 glm::dvec2 px;
                 double depth;
                 const glm::dvec3 p(s.cloud.mean[i]);
@@ -282,7 +290,12 @@ TEST_CASE("synth: suite index with a deterministic 80/20 split", "[synth]") {
     CHECK(j["seed"] == 9);
     CHECK(j["scenes"].size() == 10);
     CHECK(j["split"]["test"].size() == 2);
-    CHECK(j["classes"][1]["name"] == "building");
+    const std::vector<std::string> classes = {"other", "building", "road", "vegetation", "vehicle", "street furniture", "other ground"};
+    REQUIRE(j["classes"].size() == classes.size());
+    for (size_t c = 0; c < classes.size(); ++c) {
+        CHECK(j["classes"][c]["id"] == c);
+        CHECK(j["classes"][c]["name"] == classes[c]);
+    }
 }
 
 TEST_CASE("synth: bad options and names are refused", "[synth]") {
