@@ -70,15 +70,17 @@ std::vector<BatchJob> read_jobs(const fs::path& file) {
         if (!usable_name(b.name))
             throw data::InputError(named, "name must be letters, digits, '_', '-' or '.', not starting with '.' (it names a folder)");
         if (!names.insert(b.name).second) throw data::InputError(named, "name is used by an earlier job");
-        if (job.value("semantic", false))
-            throw data::InputError(named, "asks for semantic mode, which this build of segment does not have yet");
+        // A semantic job labels the whole scene by class: no clicks.
+        const bool semantic = job.contains("semantic") && job["semantic"].is_boolean() && job["semantic"].get<bool>();
+        if (semantic && job.contains("prompts"))
+            throw data::InputError(named, "is a semantic job and gives \"prompts\": the semantic mode takes no clicks");
         for (const char* key : {"scene", "cameras", "prompts"})
-            if (!job.contains(key) || !job[key].is_string())
+            if ((!semantic || std::string(key) != "prompts") && (!job.contains(key) || !job[key].is_string()))
                 throw data::InputError(named, std::string("has no \"") + key + "\" path");
         b.args = {"segment", resolved(base, job["scene"].get<std::string>())};
         for (auto it = job.begin(); it != job.end(); ++it) {
             const std::string& key = it.key();
-            if (key == "name" || key == "scene" || key == "semantic") continue;
+            if (key == "name" || key == "scene") continue;
             if (key == "out") throw data::InputError(named, "sets \"out\": the batch writes each job to --out DIR/<name>");
             const auto& v = it.value();
             const std::string flag = "--" + key;

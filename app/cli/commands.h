@@ -70,6 +70,15 @@ void parse_roi(const std::string& spec, double& length, double& width);
 std::string flag_for(const std::string& where);
 std::string with_flags(const std::string& error);
 
+// `segment --semantic`: every Gaussian gets a class from the semantic model, no clicks.
+struct SemanticSegmentArgs {
+    std::string scene, cameras, out, model, views = "all", mode = "occlusion", up = "cameras";
+    double tile = 0;  // 0: the model's
+    uint64_t seed = 1;
+    DeviceOptions device;
+};
+void run_segment_semantic(const SemanticSegmentArgs& args);
+
 // "all" or a comma list of indices or camera names -> indices into `cameras`.
 std::vector<size_t> select_views(const std::string& spec, const std::vector<data::Camera>& cameras);
 

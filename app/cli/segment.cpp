@@ -32,7 +32,8 @@ struct SegmentArgs {
     std::string roi, label_property = "instance", decoder;  // empty: graph, or ptv3+graph when --model is given
     std::string solver = "walk+forest", lift = "surface", preconditioner = "multigrid";
     double sigma = 0, scale = 0;
-    bool no_refine = false, strict = false;
+    bool no_refine = false, strict = false, semantic = false;
+    double tile = 0;
     seg::GraphOptions graph;
     seg::WalkOptions walk;
     float unary = 1.0f, unary_confidence = 0.97f, walk_sure = 0.7f;
@@ -219,7 +220,9 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     auto* cmd = app.add_subcommand("segment", "Segment objects from clicks: 3D labels, object PLYs, per-view masks");
     cmd->add_option("scene", a->scene, "Scene file")->required();
     cmd->add_option("--cameras", a->cameras, "Camera file or COLMAP folder")->required();
-    cmd->add_option("--prompts", a->prompts, "prompts.json: objects and their clicks")->required();
+    cmd->add_option("--prompts", a->prompts, "prompts.json: objects and their clicks (required unless --semantic)");
+    cmd->add_flag("--semantic", a->semantic, "No clicks: label every Gaussian by class with the semantic model (default: the shipped assets/models/semantic.safetensors)");
+    cmd->add_option("--tile", a->tile, "--semantic: tile side in scene units (default: the model's)");
     cmd->add_option("--out", a->out, "Output folder")->required();
     cmd->add_option("--model", a->model, "Decoder: a PTv3 model file (.safetensors; default: the shipped assets/models/interactive.safetensors), or ground-truth (evaluation tool reading the scene's labels)");
     cmd->add_option("--views", a->views, "Views to write masks for: all, none, or indices/names")->capture_default_str();
@@ -254,7 +257,28 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--walk-coarse-scale", a->walk.coarse_scale, "Graph, multigrid: the coarse correction's scale")->capture_default_str();
     add_device_option(*cmd, a->device);
     add_memory_option(*cmd, a->device);
-    cmd->callback([a, &run] { run = [a] { run_segment(*a); }; });
+    // Option conflicts are reported when the command runs (main's error handling), not while parsing.
+    cmd->callback([a, cmd, &run] {
+        std::string click_flag;
+        for (const char* flag : {"--decoder", "--sigma", "--roi", "--scale", "--strict", "--lift"})
+            if (cmd->count(flag) && click_flag.empty()) click_flag = flag;
+        const bool tile = cmd->count("--tile") > 0;
+        run = [a, click_flag, tile] {
+            if (!a->semantic) {
+                if (a->prompts.empty())
+                    throw data::InputError("--prompts", "is required (objects and their clicks), unless --semantic");
+                if (tile) throw data::InputError("--tile", "applies to --semantic only");
+                return run_segment(*a);
+            }
+            if (!a->prompts.empty())
+                throw data::InputError("--prompts", "the semantic mode takes no clicks (drop --prompts or --semantic)");
+            if (!click_flag.empty()) throw data::InputError(click_flag, "applies to clicks, not to --semantic");
+            SemanticSegmentArgs s;
+            s.scene = a->scene, s.cameras = a->cameras, s.out = a->out, s.model = a->model, s.views = a->views;
+            s.mode = a->mode, s.up = a->up, s.tile = a->tile, s.seed = a->seed, s.device = a->device;
+            run_segment_semantic(s);
+        };
+    });
 }
 
 }  // namespace pg::app

@@ -1,7 +1,8 @@
 // pointgauss train --data DIR... --config tiny|small|paper|FILE --out MODEL.safetensors:
 // trains the interactive PTv3 on labelled scenes (dataset/train: first click, ROI, partition
-// batch, click weights, augmentation). The run itself is nn/train/training_run.h; this reads
-// the options, loads the scenes, sets up the trainer (fresh or from --resume) and prints progress.
+// batch, click weights, augmentation) or, on semantic suites, the semantic one (tile columns,
+// appearance features, classes). The run itself is nn/train/training_run.h; this reads the
+// options, loads the scenes, sets up the trainer (fresh or from --resume) and prints progress.
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -11,6 +12,9 @@
 #include "app/cli/commands.h"
 #include "app/common/ptv3_decoder.h"
 #include "dataset/error.h"
+#include "dataset/eval/suite_info.h"
+#include "dataset/semantic/gaussian_features.h"
+#include "dataset/train/semantic_drawer.h"
 #include "dataset/train/sample_drawer.h"
 #include "dataset/train/train_scene.h"
 #include "engine/vk/context.h"
@@ -26,8 +30,9 @@ namespace {
 
 struct TrainArgs {
     std::vector<std::string> data, val;
-    std::string config = "tiny", out, resume;
+    std::string config = "tiny", out, resume, task = "auto";
     int points = 8192;
+    double tile = 64.0, grid = 0.01;
     double weight_decay = 0.05, drop_path = 0.1, lovasz = 0;
     nn::train::RunOptions run;  // out is set from `out`
     DeviceOptions device;
@@ -40,6 +45,56 @@ std::vector<data::train::TrainScene> load_scenes(const std::vector<std::string>&
     for (const auto& p : data::train::find_train_scenes(paths, split)) scenes.push_back(data::train::load_train_scene(p));
     if (scenes.empty()) throw data::InputError(what, "holds no " + split + " scenes");
     return scenes;
+}
+
+// The task the data asks for: semantic when every --data path is a semantic suite.
+bool semantic_data(const std::vector<std::string>& dirs) {
+    bool any = false, all = true;
+    for (const auto& d : dirs) {
+        const bool suite = std::filesystem::exists(std::filesystem::path(d) / "suite.json");
+        const bool sem = suite && data::eval::read_suite_json(d).semantic();
+        any = any || sem;
+        all = all && sem;
+    }
+    if (any && !all) throw data::InputError("--data", "mixes semantic suites with instance data");
+    return any;
+}
+
+// Class names from the suites' suite.json (all must agree): the model's classes.
+std::vector<std::string> suite_class_names(const std::vector<std::string>& dirs, const char* what) {
+    std::vector<std::string> names;
+    for (const auto& d : dirs) {
+        if (!std::filesystem::exists(std::filesystem::path(d) / "suite.json"))
+            throw data::InputError(what, "'" + d + "' is not a suite folder: the semantic task reads classes from suite.json");
+        const auto suite = data::eval::read_suite_json(d);
+        if (!suite.semantic()) throw data::InputError(what, "'" + d + "' is an instance suite, not a semantic one");
+        std::vector<std::string> these;
+        for (const auto& c : suite.classes) {
+            if (c.id != int32_t(these.size()))
+                throw data::InputError(d + "/suite.json", "class ids must be 0, 1, 2, ... in order");
+            these.push_back(c.name);
+        }
+        if (!names.empty() && these != names)
+            throw data::InputError(what, "'" + d + "' has other classes than the first suite");
+        names = these;
+    }
+    return names;
+}
+
+std::unique_ptr<data::train::SemanticDrawer> semantic_drawer(const std::vector<std::string>& dirs,
+                                                             const std::string& split, const char* what,
+                                                             const nn::Ptv3Config& config,
+                                                             const data::train::SemanticOptions& options) {
+    if (suite_class_names(dirs, what) != config.class_names)
+        throw data::InputError(what, "its classes differ from the model's");
+    std::vector<std::filesystem::path> paths(dirs.begin(), dirs.end());
+    std::vector<data::train::SemanticScene> scenes;
+    for (const auto& p : data::train::find_train_scenes(paths, split)) {
+        std::fprintf(stderr, "loading %s\n", p.string().c_str());
+        scenes.push_back(data::train::load_semantic_scene(p, options));
+    }
+    if (scenes.empty()) throw data::InputError(what, "holds no " + split + " scenes");
+    return std::make_unique<data::train::SemanticDrawer>(std::move(scenes), config.num_classes, options);
 }
 
 void run_train(const TrainArgs& a) {
@@ -67,24 +122,60 @@ void run_train(const TrainArgs& a) {
             throw data::InputError("--resume", e.what());
         }
         config = ckpt->config;
-    } else {
-        config = ptv3_config_arg(a.config, "--config");
-        config.in_channels = 2;
-        config.num_classes = 2;
-        config.input_frame = "roi";
     }
-    if (config.input_frame != "roi" || config.in_channels != 2 || config.num_classes != 2)
+    if (a.task != "auto" && a.task != "interactive" && a.task != "semantic")
+        throw data::InputError("--task", "expected auto, interactive or semantic, got '" + a.task + "'");
+    const bool semantic = a.task == "auto" ? (ckpt ? config.semantic() : semantic_data(a.data)) : a.task == "semantic";
+    if (!ckpt) {
+        config = ptv3_config_arg(a.config, "--config");
+        if (semantic) {
+            if (!(a.tile > 0)) throw data::InputError("--tile", "must be positive");
+            if (!(a.grid > 0 && a.grid < 1)) throw data::InputError("--grid", "must be in (0, 1)");
+            config.features = data::semantic::all_feature_groups();
+            config.in_channels = data::semantic::feature_channels(config.features);
+            config.class_names = suite_class_names(a.data, "--data");
+            config.num_classes = int(config.class_names.size());
+            config.input_frame = "tile";
+            config.tile_size = a.tile;
+            config.grid_size = a.grid;
+        } else {
+            config.in_channels = 2;
+            config.num_classes = 2;
+            config.input_frame = "roi";
+        }
+    }
+    if (semantic != config.semantic())
+        throw data::InputError("--resume", semantic ? "is not a semantic model checkpoint" : "is not an interactive model checkpoint");
+    if (!semantic && (config.input_frame != "roi" || config.in_channels != 2 || config.num_classes != 2))
         throw data::InputError("--resume", "is not an interactive model checkpoint");
 
-    data::train::SampleOptions so;
-    so.max_points = uint32_t(a.points);
-    const data::train::SampleDrawer drawer(load_scenes(a.data, "train", "--data"), so);
-    std::unique_ptr<data::train::SampleDrawer> val_drawer;
-    if (!a.val.empty())
-        val_drawer = std::make_unique<data::train::SampleDrawer>(load_scenes(a.val, "test", "--val"),
-                                                                 so.without_augmentation());
-    std::fprintf(stderr, "training on %zu scene(s), %zu objects; validation on %zu scene(s)\n", drawer.scenes().size(),
-                 drawer.object_count(), val_drawer ? val_drawer->scenes().size() : size_t(0));
+    std::unique_ptr<data::train::SampleDrawer> drawer, val_drawer;
+    std::unique_ptr<data::train::SemanticDrawer> sem_drawer, sem_val;
+    std::unique_ptr<nn::train::TrainingTask> task;
+    if (semantic) {
+        data::train::SemanticOptions so;
+        so.max_points = uint32_t(a.points);
+        so.tile = config.tile_size;
+        so.grid = config.grid_size;
+        so.features = config.features;
+        if (data::semantic::feature_channels(so.features) != config.in_channels)
+            throw data::InputError("--resume", "its feature groups do not give its in_channels");
+        sem_drawer = semantic_drawer(a.data, "train", "--data", config, so);
+        if (!a.val.empty()) sem_val = semantic_drawer(a.val, "test", "--val", config, so.without_augmentation());
+        std::fprintf(stderr, "training the semantic model (%d classes) on %zu scene(s); validation on %zu scene(s)\n",
+                     config.num_classes, sem_drawer->scenes().size(), sem_val ? sem_val->scenes().size() : size_t(0));
+        task = std::make_unique<nn::train::SemanticTask>(*sem_drawer, sem_val.get());
+    } else {
+        data::train::SampleOptions so;
+        so.max_points = uint32_t(a.points);
+        drawer = std::make_unique<data::train::SampleDrawer>(load_scenes(a.data, "train", "--data"), so);
+        if (!a.val.empty())
+            val_drawer = std::make_unique<data::train::SampleDrawer>(load_scenes(a.val, "test", "--val"),
+                                                                     so.without_augmentation());
+        std::fprintf(stderr, "training on %zu scene(s), %zu objects; validation on %zu scene(s)\n",
+                     drawer->scenes().size(), drawer->object_count(), val_drawer ? val_drawer->scenes().size() : size_t(0));
+        task = std::make_unique<nn::train::InteractiveTask>(*drawer, val_drawer.get());
+    }
 
     vk::ContextOptions co;
     co.device = a.device.device;
@@ -112,8 +203,8 @@ void run_train(const TrainArgs& a) {
         const long long step = (long long)p.step;
         const int steps = a.run.steps;
         if (p.validation)
-            std::fprintf(stderr, "%sstep %lld: loss %.4f, accuracy %.3f, validation IoU %.3f (1 click) %.3f (3 clicks)\n",
-                         tty ? "\r\x1b[K" : "", step, p.loss, p.accuracy, p.validation->iou1, p.validation->iou3);
+            std::fprintf(stderr, "%sstep %lld: loss %.4f, accuracy %.3f, validation %s\n", tty ? "\r\x1b[K" : "", step,
+                         p.loss, p.accuracy, p.validation->text().c_str());
         if (tty)
             std::fprintf(stderr, "\rstep %lld/%d  loss %.4f  acc %.3f  %.2f steps/s  eta %.0f min\x1b[K", step, steps,
                          p.loss, p.accuracy, p.steps_per_s, double(steps - step) / p.steps_per_s / 60.0);
@@ -121,7 +212,7 @@ void run_train(const TrainArgs& a) {
             std::fprintf(stderr, "step %lld/%d loss %.4f acc %.3f %.2f steps/s\n", step, steps, p.loss, p.accuracy,
                          p.steps_per_s);
     };
-    const nn::train::RunResult r = nn::train::run_training(trainer, start, drawer, val_drawer.get(), ro, report);
+    const nn::train::RunResult r = nn::train::run_training(trainer, start, *task, ro, report);
     if (tty) std::fprintf(stderr, "\n");
     if (!r.finished) {
         std::printf("stopped after step %lld of %d: resume with --resume %s\n", (long long)r.steps, a.run.steps,
@@ -130,7 +221,7 @@ void run_train(const TrainArgs& a) {
     }
     std::printf("wrote %s (%lld parameters) after %d steps in %.1f min on %s", a.out.c_str(),
                 trainer.weights().parameter_count(), a.run.steps, r.seconds / 60.0, ctx.info().name.c_str());
-    if (r.validation) std::printf("; validation IoU %.3f (1 click), %.3f (3 clicks)", r.validation->iou1, r.validation->iou3);
+    if (r.validation) std::printf("; validation %s", r.validation->text().c_str());
     std::printf("\n");
 }
 
@@ -138,9 +229,14 @@ void run_train(const TrainArgs& a) {
 
 void register_train(CLI::App& app, std::function<void()>& run) {
     auto a = std::make_shared<TrainArgs>();
-    auto* cmd = app.add_subcommand("train", "Train the interactive PTv3 on labelled scenes");
+    auto* cmd = app.add_subcommand("train", "Train the interactive or the semantic PTv3 on labelled scenes");
     cmd->add_option("--data", a->data, "Training scenes: suite folders (their train split), scene folders or PLYs with 'instance'")
         ->required();
+    cmd->add_option("--task", a->task, "auto (semantic on semantic suites such as campus, else interactive), interactive or semantic")
+        ->capture_default_str();
+    cmd->add_option("--tile", a->tile, "Semantic: tile side in scene units (the scene is covered by columns this wide)")
+        ->capture_default_str();
+    cmd->add_option("--grid", a->grid, "Semantic: voxel side in tiles")->capture_default_str();
     cmd->add_option("--val", a->val, "Validation scenes: suite folders (their test split), scene folders or PLYs");
     cmd->add_option("--config", a->config, "tiny, small, paper, or a model file whose config to use")->capture_default_str();
     cmd->add_option("--out", a->out, "Model file to write (.safetensors); OUT.ckpt.safetensors and OUT.log.jsonl beside it")

@@ -43,6 +43,9 @@ Ptv3Decoder::Ptv3Decoder(vk::Context& ctx, const std::string& model_path)
         throw data::InputError("--model", e.what());
     }
     const auto& c = model_->config();
+    if (c.semantic())
+        throw data::InputError(model_path, "is a semantic model (classes " + std::to_string(c.num_classes) +
+                                               ", no clicks): use it with segment --semantic");
     if (c.in_channels != 2 || c.num_classes != 2)
         throw data::InputError(model_path, "is not an interactive model (needs 2 input channels: positive and "
                                            "negative click weights, and 2 classes; has " +

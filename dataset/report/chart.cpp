@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include <stb_easy_font.h>
+#include "dataset/report/canvas.h"
 
 namespace pg::data::report {
 
@@ -13,47 +13,6 @@ namespace {
 
 using Rgb = std::array<uint8_t, 3>;
 constexpr Rgb kInk{40, 40, 40}, kGrid{225, 225, 225}, kFrame{120, 120, 120};
-constexpr int kTextScale = 2;  // easy-font glyphs are ~6 px tall: doubled to read
-
-// The font has printable ASCII only.
-std::string printable(std::string s) {
-    for (char& ch : s)
-        if (ch < 32 || ch > 126) ch = '?';
-    return s;
-}
-
-struct Canvas {
-    Image8& img;
-    void fill(int x0, int y0, int x1, int y1, Rgb c) {
-        x0 = std::max(x0, 0), y0 = std::max(y0, 0), x1 = std::min(x1, img.width), y1 = std::min(y1, img.height);
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) std::copy(c.begin(), c.end(), &img.pixels[(size_t(y) * img.width + x) * 3]);
-    }
-    // A line `thick` px wide (a square brush stepped along the longer axis).
-    void line(double x0, double y0, double x1, double y1, Rgb c, int thick) {
-        const int steps = int(std::ceil(std::max(std::fabs(x1 - x0), std::fabs(y1 - y0)))) + 1;
-        for (int i = 0; i <= steps; ++i) {
-            const double t = double(i) / steps;
-            const int x = int(std::lround(x0 + t * (x1 - x0))) - thick / 2, y = int(std::lround(y0 + t * (y1 - y0))) - thick / 2;
-            fill(x, y, x + thick, y + thick, c);
-        }
-    }
-    static int text_width(const std::string& s) {
-        std::string p = printable(s);
-        return stb_easy_font_width(p.data()) * kTextScale;
-    }
-    static int text_height() { return 7 * kTextScale; }
-    void text(int x, int y, const std::string& text, Rgb c) {
-        std::string s = printable(text);
-        std::vector<float> quads(s.size() * 64 * 16 + 16);  // up to 64 quads of 16 floats per glyph
-        const int n = stb_easy_font_print(0, 0, s.data(), nullptr, quads.data(), int(quads.size() * sizeof(float)));
-        for (int q = 0; q < n; ++q) {
-            const float* v = &quads[size_t(q) * 16];  // 4 vertices of (x, y, z, colour)
-            fill(x + int(v[0]) * kTextScale, y + int(v[1]) * kTextScale, x + int(v[8]) * kTextScale,
-                 y + int(v[9]) * kTextScale, c);
-        }
-    }
-};
 
 // Round tick spacing giving about `target` intervals over [lo, hi].
 double tick_step(double lo, double hi, int target) {
@@ -72,7 +31,7 @@ std::string tick_label(double v, double step) {
 
 void draw_panel(Canvas& cv, const ChartPanel& p, int top, int width, int height) {
     const int th = Canvas::text_height();
-    const int left = 14 + 6 * 7 * kTextScale, right = width - 16;
+    const int left = 14 + 6 * Canvas::text_height(), right = width - 16;
     cv.text(left, top + 8, p.title, kInk);
     // Legend right-aligned on the title's line, or on a line of its own when they would meet.
     int legend_width = 0;

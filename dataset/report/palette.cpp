@@ -1,5 +1,7 @@
 #include "dataset/report/palette.h"
 
+#include <iterator>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -17,6 +19,14 @@ glm::vec3 hsv(float h, float s, float v) {
         c[i] = v - v * s * std::clamp(std::min(t, 4.0f - t), 0.0f, 1.0f);
     }
     return c;
+}
+
+glm::vec3 class_colour(int id) {
+    static const glm::vec3 palette[] = {{0.5f, 0.5f, 0.5f},   {0.9f, 0.2f, 0.15f}, {0.6f, 0.3f, 0.85f},
+                                        {0.2f, 0.8f, 0.2f},   {0.15f, 0.45f, 1.0f}, {1.0f, 0.9f, 0.1f},
+                                        {1.0f, 0.55f, 0.1f}};
+    if (id >= 0 && id < int(std::size(palette))) return palette[id];
+    return glm::vec3(mask_colour(uint16_t(id))) / 255.0f;
 }
 
 glm::u8vec3 mask_colour(uint16_t id) {

@@ -27,7 +27,7 @@ std::vector<std::pair<double, double>> running_mean(const std::vector<std::pair<
 }  // namespace
 
 void write_train_curves(const std::filesystem::path& log, const std::filesystem::path& png) {
-    std::vector<std::pair<double, double>> loss, lovasz, accuracy, lr, iou1, iou3;
+    std::vector<std::pair<double, double>> loss, lovasz, accuracy, lr, iou1, iou3, miou, oa;
     std::ifstream in(log);
     for (std::string line; std::getline(in, line);) {
         const auto e = nlohmann::json::parse(line, nullptr, false);
@@ -42,6 +42,8 @@ void write_train_curves(const std::filesystem::path& log, const std::filesystem:
         add("lr", lr);
         add("val_iou1", iou1);
         add("val_iou3", iou3);
+        add("val_miou", miou);  // the semantic task's
+        add("val_oa", oa);
     }
     // The cross-entropy alone: the logged loss includes the Lovasz term where one was added.
     std::vector<std::pair<double, double>> ce = loss;
@@ -53,11 +55,21 @@ void write_train_curves(const std::filesystem::path& log, const std::filesystem:
     ChartPanel losses{"training loss, mean of 50 steps", "", {{"cross-entropy", {200, 60, 40}, running_mean(ce, window)}},
                             0.0, {}};
     if (!lovasz.empty()) losses.series.push_back({"Lovasz", {230, 150, 40}, running_mean(lovasz, window)});
-    ChartPanel quality{"validation IoU (held-out samples), training accuracy", "",
-                             {{"IoU, 1 click", {40, 90, 200}, iou1, true},
-                              {"IoU, 3 clicks", {40, 160, 90}, iou3, true},
-                              {"accuracy, mean of 50", {150, 150, 150}, running_mean(accuracy, window)}},
-                             0.0, 1.0};
+    const bool semantic = !miou.empty() && iou1.empty();
+    ChartPanel quality{semantic ? "validation mIoU and OA (held-out samples), training accuracy"
+                                : "validation IoU (held-out samples), training accuracy",
+                       "",
+                       {},
+                       0.0,
+                       1.0};
+    if (semantic) {
+        quality.series.push_back({"mIoU", {40, 90, 200}, miou, true});
+        quality.series.push_back({"OA", {40, 160, 90}, oa, true});
+    } else {
+        quality.series.push_back({"IoU, 1 click", {40, 90, 200}, iou1, true});
+        quality.series.push_back({"IoU, 3 clicks", {40, 160, 90}, iou3, true});
+    }
+    quality.series.push_back({"accuracy, mean of 50", {150, 150, 150}, running_mean(accuracy, window)});
     ChartPanel rate{"learning rate (OneCycle)", "step", {{"", {110, 70, 170}, lr}}, 0.0, {}};
     const data::Image8 img = draw_chart({losses, quality, rate}, 900, 260);
     data::write_png8(png, img.width, img.height, img.channels, img.pixels);

@@ -25,9 +25,10 @@ void refuse_overwriting(const fs::path& file, const std::vector<fs::path>& input
             throw data::InputError(file.string(), "is an input of this run; choose another output folder");
 }
 
-void write_labelled_scene(const data::GaussianCloud& cloud, const std::vector<int32_t>& labels, const fs::path& file) {
+void write_labelled_scene(const data::GaussianCloud& cloud, const std::vector<int32_t>& labels, const fs::path& file,
+                          const std::string& property) {
     data::GaussianCloud labelled = cloud;
-    labelled.set_int_property("instance", labels);
+    labelled.set_int_property(property, labels);
     data::write_ply(labelled, file);
 }
 
@@ -63,8 +64,9 @@ std::map<std::string, double> write_view_masks(vk::Context& ctx, const render::G
     for (size_t v : views) {
         auto m = masker.render(cameras[v], options.masks);
         data::write_png16(out / "masks" / (cameras[v].name + ".png"), m.width, m.height, m.mask16());
-        data::write_png8(out / "overlays" / (cameras[v].name + ".png"), m.width, m.height, 3,
-                         m.overlay(options.colour));
+        data::Image8 overlay{m.width, m.height, 3, m.overlay(options.colour)};
+        data::report::draw_legend(overlay, options.legend);
+        data::write_png8(out / "overlays" / (cameras[v].name + ".png"), m.width, m.height, 3, overlay.pixels);
         if (options.progress && !options.progress(++done, cameras[v].name)) {
             if (completed) *completed = false;
             break;

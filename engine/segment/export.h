@@ -10,6 +10,7 @@
 
 #include "dataset/camera.h"
 #include "dataset/gaussian_cloud.h"
+#include "dataset/report/legend.h"
 #include "engine/segment/mask_views.h"
 
 namespace pg::seg {
@@ -25,8 +26,10 @@ std::string safe_file_name(std::string name);
 // InputError when `file` is one of `inputs` (outputs never overwrite what was read).
 void refuse_overwriting(const std::filesystem::path& file, const std::vector<std::filesystem::path>& inputs);
 
+// The scene with the labels as an integer vertex property ("instance", or "class" for the
+// semantic mode).
 void write_labelled_scene(const data::GaussianCloud& cloud, const std::vector<int32_t>& labels,
-                          const std::filesystem::path& file);
+                          const std::filesystem::path& file, const std::string& property = "instance");
 
 // folder/<name>.ply per object (name_<id>.ply where two objects share a name); returns the paths.
 std::vector<std::filesystem::path> write_object_plys(const data::GaussianCloud& cloud,
@@ -37,6 +40,7 @@ std::vector<std::filesystem::path> write_object_plys(const data::GaussianCloud& 
 struct ViewExportOptions {
     MaskViewsOptions masks;
     std::function<glm::vec3(uint32_t)> colour = ViewMask::default_colour;
+    std::vector<data::report::LegendEntry> legend;  // drawn into each overlay's corner when given
     // Called after each view with the count done so far; returning false stops the export.
     std::function<bool(size_t done, const std::string& view)> progress;
 };

@@ -91,6 +91,9 @@ Ptv3Config Ptv3Config::from_json(const nlohmann::json& j) {
     read(j, "qk_scale", c.qk_scale, false);
     read(j, "grid_size", c.grid_size, false);
     read(j, "input_frame", c.input_frame, false);
+    read(j, "tile_size", c.tile_size, false);
+    read(j, "features", c.features, false);
+    read(j, "class_names", c.class_names, false);
     require_value(j, "cls_mode", false);
     require_value(j, "enable_rpe", false);
     require_value(j, "pre_norm", true);
@@ -101,7 +104,7 @@ Ptv3Config Ptv3Config::from_json(const nlohmann::json& j) {
 }
 
 nlohmann::json Ptv3Config::to_json() const {
-    return {{"in_channels", in_channels},       {"num_classes", num_classes},   {"order", order},
+    nlohmann::json j = {{"in_channels", in_channels},       {"num_classes", num_classes},   {"order", order},
             {"stride", stride},                 {"enc_depths", enc_depths},     {"enc_channels", enc_channels},
             {"enc_num_head", enc_num_head},     {"enc_patch_size", enc_patch_size},
             {"dec_depths", dec_depths},         {"dec_channels", dec_channels}, {"dec_num_head", dec_num_head},
@@ -109,6 +112,10 @@ nlohmann::json Ptv3Config::to_json() const {
             {"qk_scale", qk_scale == 0 ? nlohmann::json(nullptr) : nlohmann::json(qk_scale)},
             {"grid_size", grid_size},           {"cls_mode", false},            {"enable_rpe", false},
             {"pre_norm", true},                 {"input_frame", input_frame}};
+    if (tile_size > 0) j["tile_size"] = tile_size;
+    if (!features.empty()) j["features"] = features;
+    if (!class_names.empty()) j["class_names"] = class_names;
+    return j;
 }
 
 void Ptv3Config::validate() const {
@@ -121,7 +128,13 @@ void Ptv3Config::validate() const {
     if (dec_depths.size() != s - 1 || dec_channels.size() != s - 1 || dec_num_head.size() != s - 1 ||
         dec_patch_size.size() != s - 1)
         fail("decoder lists need " + std::to_string(s - 1) + " entries");
-    if (input_frame != "world" && input_frame != "roi") fail("input_frame must be 'world' or 'roi'");
+    if (input_frame != "world" && input_frame != "roi" && input_frame != "tile")
+        fail("input_frame must be 'world', 'roi' or 'tile'");
+    if (semantic() && !(tile_size > 0)) fail("a 'tile' frame needs tile_size > 0");
+    if (semantic() && features.empty()) fail("a 'tile' frame needs its feature groups");
+    if (!class_names.empty() && int(class_names.size()) != num_classes)
+        fail("class_names has " + std::to_string(class_names.size()) + " names for " + std::to_string(num_classes) +
+             " classes");
     if (order.empty() || order.size() > 4) fail("order needs 1 to 4 entries");
     for (auto& o : order)
         if (o != "z" && o != "z-trans" && o != "hilbert" && o != "hilbert-trans") fail("unknown order '" + o + "'");

@@ -24,6 +24,14 @@ struct Ptv3Config {
     // checkpoints) or "roi" (dataset/roi_frame.h: centred on the first click, z up, in
     // units of the object scale; the models `pointgauss train` writes).
     std::string input_frame = "world";
+    // "tile" (the semantic model, dataset/semantic/scene_tiles.h): a tile column's frame, in units
+    // of tile_size world units. The feature groups it reads (dataset/semantic/gaussian_features.h)
+    // and its class names travel with it; interactive models leave all three empty (features:
+    // positive and negative click weights).
+    double tile_size = 0;
+    std::vector<std::string> features;
+    std::vector<std::string> class_names;
+    bool semantic() const { return input_frame == "tile"; }
 
     int stages() const { return int(enc_channels.size()); }
     // The paper's interactive model (46.15 M parameters) and the reduced config of the golden fixture.

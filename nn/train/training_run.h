@@ -1,6 +1,6 @@
 #pragma once
-// A training run of the interactive PTv3, as `pointgauss train` runs it: batches of samples
-// (some with later clicks on the current model's own errors, the benchmark's protocol), AdamW
+// A training run of PTv3, as `pointgauss train` runs it: batches of the task's samples (the
+// interactive task's with later clicks on the current model's own errors), AdamW
 // steps on the OneCycle schedule, validation on held-out samples, checkpoints, a JSON-lines log
 // and its curves; at the end the BatchNorm statistics are settled and the model file written.
 // Seeded: every step's samples and drop path masks derive from (seed, step), so a run resumed
@@ -10,8 +10,8 @@
 #include <functional>
 #include <optional>
 
-#include "dataset/train/sample_drawer.h"
 #include "nn/train/trainer.h"
+#include "nn/train/training_task.h"
 #include "nn/train/validation.h"
 
 namespace pg::nn::train {
@@ -45,10 +45,9 @@ struct RunResult {
     double seconds = 0;
 };
 
-// Runs steps `start` (a resumed checkpoint's step) to the end or options.stop_at. `validation`
-// may be null (no validation). Throws std::runtime_error when the loss stops being finite.
-RunResult run_training(Trainer& trainer, int64_t start, const data::train::SampleDrawer& drawer,
-                       const data::train::SampleDrawer* validation, const RunOptions& options,
+// Runs steps `start` (a resumed checkpoint's step) to the end or options.stop_at, validating
+// when the task has validation samples. Throws std::runtime_error when the loss stops being finite.
+RunResult run_training(Trainer& trainer, int64_t start, TrainingTask& task, const RunOptions& options,
                        const std::function<void(const StepReport&)>& report);
 
 }  // namespace pg::nn::train

@@ -57,7 +57,7 @@ TEST_CASE("train writes an interactive model, its log and a checkpoint, chunks r
     Run whole = run(common_args(suite) + " --steps 4 --out " + (dir / "whole.safetensors").string());
     INFO(whole.out);
     REQUIRE(whole.code == 0);
-    CHECK(whole.out.find("validation IoU") != std::string::npos);
+    CHECK(whole.out.find("validation iou1") != std::string::npos);
     const json meta = safetensors_metadata(dir / "whole.safetensors");
     const json config = json::parse(meta["config"].get<std::string>());
     CHECK(config["input_frame"] == "roi");

@@ -1,0 +1,77 @@
+#include "dataset/semantic/gaussian_features.h"
+
+#include <algorithm>
+#include <array>
+#include <functional>
+#include <cmath>
+#include <stdexcept>
+
+namespace pg::data::semantic {
+
+namespace {
+
+int group_channels(const std::string& g) {
+    if (g == "rgb" || g == "log_scale") return 3;
+    if (g == "opacity" || g == "verticality") return 1;
+    throw std::invalid_argument("unknown feature group '" + g + "' (rgb, opacity, log_scale, verticality)");
+}
+
+// The rotation's column for axis `a` (the quaternion need not be unit).
+glm::vec3 axis_of(glm::vec4 q, int a) {
+    const float n = glm::length(q);
+    if (!(n > 0)) return glm::vec3(a == 0, a == 1, a == 2);
+    q /= n;
+    const float w = q.x, x = q.y, y = q.z, z = q.w;
+    switch (a) {
+        case 0: return {1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y)};
+        case 1: return {2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)};
+        default: return {2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)};
+    }
+}
+
+}  // namespace
+
+std::vector<std::string> all_feature_groups() { return {"rgb", "opacity", "log_scale", "verticality"}; }
+
+int feature_channels(const std::vector<std::string>& groups) {
+    int c = 0;
+    for (const auto& g : groups) c += group_channels(g);
+    return c;
+}
+
+std::vector<float> gaussian_features(const GaussianCloud& cloud, const std::vector<std::string>& groups, glm::dvec3 up,
+                                     double unit) {
+    const int channels = feature_channels(groups);
+    const size_t n = cloud.size();
+    const glm::vec3 u = glm::vec3(glm::normalize(up));
+    const float log_unit = float(std::log(unit));
+    const int coeffs = cloud.coeffs();
+    std::vector<float> out(n * size_t(channels));
+    for (size_t i = 0; i < n; ++i) {
+        float* f = &out[i * size_t(channels)];
+        for (const auto& g : groups) {
+            if (g == "rgb") {
+                for (int c = 0; c < 3; ++c) {
+                    const float dc = cloud.sh.empty() ? 0.0f : cloud.sh[(i * size_t(coeffs)) * 3 + size_t(c)];
+                    *f++ = std::clamp(0.5f + kShC0 * dc, 0.0f, 1.0f);
+                }
+            } else if (g == "opacity") {
+                *f++ = opacity_from_logit(cloud.opacity_logit[i]);
+            } else if (g == "log_scale") {
+                glm::vec3 s = cloud.log_scale[i];
+                // 2DGS surfels' missing axis is kFlatLogScale: far below any real size; keep it finite.
+                for (int a = 0; a < 3; ++a) s[a] = std::max(s[a], -20.0f) - log_unit;
+                std::array<float, 3> v{s.x, s.y, s.z};
+                std::sort(v.begin(), v.end(), std::greater<>());
+                for (float x : v) *f++ = std::clamp(x, -12.0f, 12.0f);
+            } else {
+                const glm::vec3 s = cloud.log_scale[i];
+                const int flat = s.x <= s.y && s.x <= s.z ? 0 : (s.y <= s.z ? 1 : 2);
+                *f++ = std::min(1.0f, std::abs(glm::dot(axis_of(cloud.rotation[i], flat), u)));
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace pg::data::semantic

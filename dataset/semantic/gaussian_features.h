@@ -1,0 +1,31 @@
+#pragma once
+// Per-Gaussian appearance and shape features, for models that see more than click maps (the
+// semantic model). A model's config lists the groups it was trained on, by these names; training
+// and inference both compute them here, so they cannot drift apart.
+//   rgb          3  colour of the SH DC term, clamped to [0, 1]
+//   opacity      1  sigmoid of the logit
+//   log_scale    3  the three axis scales' natural logs, largest first, less log(unit): the unit
+//                   is the model's voxel in world units, so 0 means "as large as a voxel"
+//   verticality  1  |n . up| for n the flattest axis (1: a horizontal surface, 0: a wall); the
+//                   sign of a surfel's normal is arbitrary, and only the angle to up survives the
+//                   rotations about up that training applies
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "dataset/gaussian_cloud.h"
+
+namespace pg::data::semantic {
+
+// The groups above, in the order a semantic model lists them.
+std::vector<std::string> all_feature_groups();
+
+// Channels of these groups together; std::invalid_argument naming an unknown group.
+int feature_channels(const std::vector<std::string>& groups);
+
+// [n, feature_channels(groups)] row-major, in the order of `groups`. `up` need not be unit.
+std::vector<float> gaussian_features(const GaussianCloud& cloud, const std::vector<std::string>& groups, glm::dvec3 up,
+                                     double unit);
+
+}  // namespace pg::data::semantic
