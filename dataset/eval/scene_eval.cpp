@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "dataset/error.h"
+#include "dataset/json_file.h"
 #include "dataset/eval/label_files.h"
 #include "dataset/eval/two_class.h"
 
@@ -73,6 +74,23 @@ void score_masks(const SuiteInfo& suite, const fs::path& gt_dir, const fs::path&
 
 }  // namespace
 
+// A semantic prediction's report.json names the model's classes; ids mean nothing when they are
+// not the suite's.
+void check_predicted_classes(const SuiteInfo& suite, const fs::path& pred_scene) {
+    const fs::path report = pred_scene / "report.json";
+    if (!suite.semantic() || !fs::exists(report)) return;
+    const nlohmann::json j = read_json_file(report);
+    if (!j.is_object() || j.value("mode", "") != "semantic" || !j.contains("classes") || !j["classes"].is_array()) return;
+    std::string predicted, expected;
+    for (const auto& c : j["classes"])
+        if (c.is_object() && c.contains("name") && c["name"].is_string())
+            predicted += (predicted.empty() ? "" : ", ") + c["name"].get<std::string>();
+    for (const auto& c : suite.classes) expected += (expected.empty() ? "" : ", ") + c.name;
+    if (predicted != expected)
+        throw InputError(report.string(), "the model's classes (" + predicted + ") are not the suite's (" + expected +
+                                              "): its class ids cannot be scored against this ground truth");
+}
+
 SceneEval evaluate_scene(const SuiteInfo& suite, const std::string& name, const fs::path& gt_scene,
                          const fs::path& pred_scene) {
     const fs::path pred_ply = pred_scene / "scene.ply", pred_masks = pred_scene / "masks",
@@ -81,6 +99,7 @@ SceneEval evaluate_scene(const SuiteInfo& suite, const std::string& name, const 
                has_clicks = fs::exists(clicks);
     if (!has_ply && !has_masks && !has_clicks)
         throw InputError(pred_scene.string(), "holds none of scene.ply, masks/, clicks.json");
+    check_predicted_classes(suite, pred_scene);
 
     SceneEval s;
     s.name = name;

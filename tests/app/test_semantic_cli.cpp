@@ -84,6 +84,16 @@ TEST_CASE("segment --semantic labels a campus scene with a model train wrote, an
     CHECK(eval.code == 0);
     CHECK(eval.out.find("building") != std::string::npos);
 
+    // A prediction by a model with other classes cannot be scored: eval names its report.
+    json renamed = report;
+    renamed["classes"][1]["name"] = "tower";
+    pg::data::write_atomically(pred / "campus_001" / "report.json", [&](std::ostream& os) { os << renamed.dump(); });
+    Run mismatch = run("eval --gt " + suite.string() + " --pred " + pred.string() + " --split test");
+    INFO(mismatch.out);
+    CHECK(mismatch.code == 1);
+    CHECK(mismatch.out.find("not the suite's") != std::string::npos);
+    CHECK(mismatch.out.find("report.json") != std::string::npos);
+
     // A semantic job in a batch runs segment --semantic.
     pg::data::write_atomically(dir / "jobs.json", [&](std::ostream& os) {
         os << json{{"jobs", {{{"name", "s"}, {"scene", (scene / "scene.ply").string()},
