@@ -24,14 +24,14 @@ std::vector<uint8_t> predict_mask(Ptv3& model, const data::train::Sample& s) {
     return mask;
 }
 
-Batch InteractiveTask::draw_batch(Trainer& trainer, data::Rng& rng, int batch, int max_clicks) const {
+Batch InteractiveTask::draw_batch(Trainer* trainer, data::Rng& rng, int batch, int max_clicks) const {
     Batch out;
     std::unique_ptr<Ptv3> model;  // made only when a sample needs it
     for (int b = 0; b < batch; ++b) {
         data::train::Sample s = drawer_.draw(rng);
         const int clicks = rng.below(max_clicks + 1);
         for (int k = 0; k < clicks; ++k) {
-            if (!model) model = std::make_unique<Ptv3>(trainer.pool(), trainer.weights());
+            if (!model) model = std::make_unique<Ptv3>(trainer->pool(), trainer->weights());
             if (!drawer_.add_click(s, predict_mask(*model, s))) break;
         }
         out.add(s);

@@ -13,18 +13,37 @@ Ptv3Input semantic_input(const data::train::SemanticSample& s) {
     return in;
 }
 
+// A tile of a few Gaussians (a far floater's, the sky's) pools to a single voxel, which a
+// training-mode BatchNorm cannot normalise; such tiles are redrawn (inference, with running
+// statistics, takes them packed with others).
+constexpr size_t kMinSamplePoints = 64;
+
+data::train::SemanticSample draw_usable(const data::train::SemanticDrawer& drawer, data::Rng& rng) {
+    data::train::SemanticSample s = drawer.draw(rng);
+    for (int i = 0; i < 16 && s.size() < kMinSamplePoints; ++i) s = drawer.draw(rng);
+    return s;
+}
+
 }  // namespace
 
-Batch SemanticTask::draw_batch(Trainer&, data::Rng& rng, int batch, int) const {
+Batch SemanticTask::draw_batch(Trainer*, data::Rng& rng, int batch, int) const {
     Batch out;
     for (int b = 0; b < batch; ++b) {
-        const data::train::SemanticSample s = drawer_.draw(rng);
+        const data::train::SemanticSample s = draw_usable(drawer_, rng);
         out.add(s.coord, s.feat, s.labels);
     }
     return out;
 }
 
-Ptv3Input SemanticTask::calibration_input(data::Rng& rng) const { return semantic_input(drawer_.draw(rng)); }
+// Several tiles as one multi-cloud input of about a batch's points, as training steps see them.
+Ptv3Input SemanticTask::calibration_input(data::Rng& rng) const {
+    Batch out;
+    while (out.labels.size() < drawer_.options().max_points) {
+        const data::train::SemanticSample s = draw_usable(drawer_, rng);
+        out.add(s.coord, s.feat, s.labels);
+    }
+    return out.input;
+}
 
 bool SemanticTask::prepare_validation(data::Rng& rng, int count) {
     val_samples_.clear();

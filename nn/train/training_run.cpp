@@ -82,7 +82,7 @@ RunResult run_training(Trainer& trainer, int64_t start, TrainingTask& task, cons
         const auto t0 = Clock::now();
         data::Rng rng(step_seed(o.seed, step, 1));
         trainer.rng().seed(step_seed(o.seed, step, 2));
-        const Batch batch = task.draw_batch(trainer, rng, o.batch, o.max_clicks);
+        const Batch batch = task.draw_batch(&trainer, rng, o.batch, o.max_clicks);
         const auto r = trainer.step(batch.input, batch.labels, schedule.lr(step), schedule.beta1(step));
         if (!std::isfinite(r.loss))
             throw std::runtime_error("training diverged at step " + std::to_string(step) + " (loss is not finite)");

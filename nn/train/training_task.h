@@ -23,8 +23,9 @@ class TrainingTask {
 public:
     virtual ~TrainingTask() = default;
     // One step's samples (`batch` clouds). The interactive task gives each up to `max_clicks`
-    // later clicks on the trainer's current weights.
-    virtual Batch draw_batch(Trainer& trainer, data::Rng& rng, int batch, int max_clicks) const = 0;
+    // later clicks on the trainer's current weights (it needs `trainer`; the semantic task
+    // ignores it, and it may be null there).
+    virtual Batch draw_batch(Trainer* trainer, data::Rng& rng, int batch, int max_clicks) const = 0;
     // A fresh training sample as one cloud (settles the BatchNorm statistics).
     virtual Ptv3Input calibration_input(data::Rng& rng) const = 0;
     // Draws the fixed validation samples; false when the task has no validation scenes.
@@ -41,7 +42,7 @@ class InteractiveTask : public TrainingTask {
 public:
     InteractiveTask(const data::train::SampleDrawer& drawer, const data::train::SampleDrawer* validation)
         : drawer_(drawer), val_drawer_(validation) {}
-    Batch draw_batch(Trainer& trainer, data::Rng& rng, int batch, int max_clicks) const override;
+    Batch draw_batch(Trainer* trainer, data::Rng& rng, int batch, int max_clicks) const override;
     Ptv3Input calibration_input(data::Rng& rng) const override;
     bool prepare_validation(data::Rng& rng, int count) override;
     Validation validate(Pool& pool, const Ptv3Weights& weights) const override;
@@ -60,7 +61,7 @@ class SemanticTask : public TrainingTask {
 public:
     SemanticTask(const data::train::SemanticDrawer& drawer, const data::train::SemanticDrawer* validation)
         : drawer_(drawer), val_drawer_(validation) {}
-    Batch draw_batch(Trainer& trainer, data::Rng& rng, int batch, int max_clicks) const override;
+    Batch draw_batch(Trainer* trainer, data::Rng& rng, int batch, int max_clicks) const override;
     Ptv3Input calibration_input(data::Rng& rng) const override;
     bool prepare_validation(data::Rng& rng, int count) override;
     // Pooled over the samples' points: mean IoU over the classes present, overall accuracy.
