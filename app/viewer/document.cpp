@@ -68,13 +68,16 @@ const std::string& Document::redo_label() const {
     return redo_.empty() ? none : redo_.back().what;
 }
 
-int Document::add_object(const std::string& name) {
+int Document::add_object(const std::string& name) { return add_region_object(name, nullptr); }
+
+int Document::add_region_object(const std::string& name, std::shared_ptr<const Region> region) {
     int id = state_.next_id;
-    edit("new object", [&](DocumentState& s) {
+    edit(region ? "object from " + region->source : "new object", [&](DocumentState& s) {
         Object o;
         o.id = s.next_id++;
         o.name = name.empty() ? "object " + std::to_string(o.id) : name;
         o.colour = default_object_colour(o.id);
+        o.region = std::move(region);
         s.objects.push_back(o);
         s.selected = o.id;
     });
@@ -137,7 +140,7 @@ bool Document::remove(int id) {
 data::Prompts Document::prompts() const {
     data::Prompts p;
     for (const auto& o : state_.objects) {
-        if (!o.has_positive()) continue;
+        if (!o.has_positive() || o.region) continue;
         data::ObjectPrompt op;
         op.name = o.name;
         op.id = o.id;
@@ -150,7 +153,7 @@ data::Prompts Document::prompts() const {
 seg::LiftedClicks Document::anchors() const {
     seg::LiftedClicks lifted;
     for (const auto& o : state_.objects) {
-        if (!o.has_positive()) continue;
+        if (!o.has_positive() || o.region) continue;
         auto& a = lifted.emplace_back();
         for (const auto& c : o.clicks) a.push_back(c.anchor);
     }

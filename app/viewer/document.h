@@ -1,8 +1,10 @@
 #pragma once
 // What a viewer user edits: objects with their clicks, names, colours and visibility. Every
 // edit goes through Document::edit, which keeps the state before it for undo; the state is
-// small (clicks, not labels), so whole snapshots are simpler than inverse operations.
+// small (clicks, not labels; an object made from a class shares its region, never copies it),
+// so whole snapshots are simpler than inverse operations.
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,12 +22,23 @@ struct Click {
     bool operator==(const Click&) const = default;
 };
 
+// Gaussians an object starts from instead of a first click (a class region, see
+// class_labels.h). Immutable once made, so objects share it and compare it by address.
+struct Region {
+    std::vector<uint32_t> gaussians;  // ascending
+    std::vector<float> probability;   // per Gaussian: how strongly the object claims it (> 0)
+    std::string source;               // what it was made from, for the panel and report.json
+};
+
 struct Object {
     int id = 0;
     std::string name;
     glm::vec3 colour{1.0f};
     bool hidden = false;
     std::vector<Click> clicks;
+    // Null for a clicked object. Set: the object is the region as corrected by its clicks (see
+    // Session): positive clicks add what they segment, negative ones take it away.
+    std::shared_ptr<const Region> region;
     bool has_positive() const;
     bool operator==(const Object&) const = default;
 };
@@ -58,6 +71,7 @@ public:
 
     // The common edits, each one undo step.
     int add_object(const std::string& name = {});  // selected afterwards; returns its id
+    int add_region_object(const std::string& name, std::shared_ptr<const Region> region);  // likewise, from a region
     bool add_click(const Click& click);            // to the selected object (a new one if none)
     bool select(int id);                           // selection is not undoable on its own
     bool rename(int id, const std::string& name);
@@ -66,6 +80,7 @@ public:
     bool remove(int id);
 
     // prompts.json for `pointgauss segment`: every object with at least one positive click, in order.
+    // Region objects are left out: clicks alone do not reproduce them.
     data::Prompts prompts() const;
     seg::LiftedClicks anchors() const;  // the anchors of prompts()' clicks, in the same order
 

@@ -50,20 +50,34 @@ FramePicture FrameEngine::render(const FrameRequest& rq) {
     out.camera = rq.camera;
     out.preview = rq.preview && preview_;
     const bool labelled = rq.labels && rq.labels->size() == scene_.size();
+    const bool classed = rq.classes && rq.classes->size() == scene_.size();
     if (labelled && !out.preview && rq.labels_version != labels_version_) {
         labels_ = vk::upload_vector(ctx_, *rq.labels, "viewer labels");
         // One upload for both: object ids are >= 0, so the style's int32 and the mask's uint32 agree.
         masks_ = std::make_unique<seg::MaskViews>(ctx_, scene_, labels_);
         labels_version_ = rq.labels_version;
     }
-    if (labelled && out.preview && rq.labels_version != preview_labels_version_) {
-        std::vector<int32_t> sub(preview_ids_->size());
-        for (size_t i = 0; i < sub.size(); ++i) sub[i] = (*rq.labels)[(*preview_ids_)[i]];
-        preview_labels_ = vk::upload_vector(ctx_, sub, "viewer preview labels");
-        preview_labels_version_ = rq.labels_version;
+    // The style's label per Gaussian: its object, else (classes shown) class_base + its class.
+    const TintKey key{labelled ? rq.labels_version : 0, classed ? rq.classes_version : 0, classed ? rq.class_base : 0};
+    auto tint_label = [&](size_t g) {
+        const int32_t object = labelled ? (*rq.labels)[g] : 0;
+        const int32_t c = classed ? (*rq.classes)[g] : 0;
+        return object != 0 || c <= 0 ? object : rq.class_base + c;
+    };
+    if (classed && !out.preview && key != tint_key_) {
+        std::vector<int32_t> tint(scene_.size());
+        for (size_t g = 0; g < tint.size(); ++g) tint[g] = tint_label(g);
+        tint_labels_ = vk::upload_vector(ctx_, tint, "viewer tint labels");
+        tint_key_ = key;
     }
-    const render::RenderStyle style =
-        labelled ? tints(rq, out.preview ? preview_labels_ : labels_) : render::RenderStyle{};
+    if ((labelled || classed) && out.preview && key != preview_key_) {
+        std::vector<int32_t> sub(preview_ids_->size());
+        for (size_t i = 0; i < sub.size(); ++i) sub[i] = tint_label((*preview_ids_)[i]);
+        preview_labels_ = vk::upload_vector(ctx_, sub, "viewer preview labels");
+        preview_key_ = key;
+    }
+    const vk::Buffer& styled = out.preview ? preview_labels_ : classed ? tint_labels_ : labels_;
+    const render::RenderStyle style = labelled || classed ? tints(rq, styled) : render::RenderStyle{};
     renderer_.render(out.preview ? *preview_ : scene_, rq.camera, rq.settings, style.labels ? &style : nullptr);
     for (auto& t : renderer_.timings()) out.render_ms += t.ms;
     const int w = renderer_.width(), h = renderer_.height();

@@ -1,7 +1,8 @@
 #pragma once
 // The render thread's half of the viewer: renders the current view with the 3D labels as
-// tints (hidden objects culled) and, when asked, the refined 2D mask of every visible object
-// outlined on top, exactly as the exported overlays draw it. The picture stays on the device:
+// tints (hidden objects culled), where no object holds a Gaussian its class's tint (label by
+// class), and, when asked, the refined 2D mask of every visible object outlined on top,
+// exactly as the exported overlays draw it. The picture stays on the device:
 // the presenter copies it into the window's image.
 #include <cstdint>
 #include <memory>
@@ -21,7 +22,12 @@ struct FrameRequest {
     data::Camera camera;
     std::shared_ptr<const std::vector<int32_t>> labels;  // object id per Gaussian (may be null)
     uint64_t labels_version = 0;
-    // Per object id: rgb and how strongly the Gaussians take it (0 none, < 0 hidden).
+    // Class per Gaussian (may be null: no class tints). Tinted as palette[class_base + class]
+    // where no object holds the Gaussian; masks and picking see objects alone.
+    std::shared_ptr<const std::vector<int32_t>> classes;
+    uint64_t classes_version = 0;
+    int class_base = 0;
+    // Per object id (and class_base + class): rgb and how strongly the Gaussians take it (0 none, < 0 hidden).
     std::vector<glm::vec4> palette;
     bool mask = false;  // outline the objects' 2D masks
     bool preview = false;  // draw the scene's preview, if it has one (a moving camera)
@@ -65,10 +71,17 @@ private:
     seg::PicturePasses passes_;
     std::vector<std::shared_ptr<Pixels>> pixels_;
     vk::Buffer labels_, palette_, preview_labels_;
-    uint64_t preview_labels_version_ = ~0ull;
     std::vector<glm::vec4> palette_uploaded_;  // what palette_ holds: an unchanged palette is not re-sent
     uint64_t labels_version_ = ~0ull;
     std::unique_ptr<seg::MaskViews> masks_;
+    // What the style tints by when classes are shown: object ids, else class_base + class.
+    struct TintKey {
+        uint64_t labels = ~0ull, classes = ~0ull;
+        int base = -1;
+        bool operator==(const TintKey&) const = default;
+    };
+    vk::Buffer tint_labels_;
+    TintKey tint_key_, preview_key_;
 };
 
 }  // namespace pg::viewer

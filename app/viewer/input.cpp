@@ -30,8 +30,14 @@ void Viewer::handle_input() {
             const ImVec2 drag = io.MouseDragMaxDistanceSqr[b] > 16.0f ? ImVec2(1, 1) : ImVec2(0, 0);
             double x, y;
             if (drag.x != 0 || !picture_fraction(m, x, y)) continue;
-            if (io.KeyAlt) doc_.select(object_at(x, y));  // Alt+click picks an object, as in the list
-            else click_at(x, y, b == 0 && !io.KeyCtrl);
+            if (io.KeyAlt) {
+                doc_.select(object_at(x, y));  // Alt+click picks an object, as in the list
+            } else if (pick_class_region_ && b == 0) {
+                object_from_class_at(x, y);  // armed in the Classes panel: one click, then prompts again
+                pick_class_region_ = false;
+            } else {
+                click_at(x, y, b == 0 && !io.KeyCtrl);
+            }
         }
         double hx, hy;
         if (in_view && picture_fraction(m, hx, hy) && !ImGui::IsAnyMouseDown())

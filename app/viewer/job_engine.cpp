@@ -6,10 +6,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/common/ptv3_classifier.h"
 #include "app/common/ptv3_decoder.h"
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
 #include "dataset/formats/camera_io.h"
+#include "dataset/formats/scene_io.h"
 #include "engine/segment/export.h"
 #include "engine/segment/prompt_encoder.h"
 #include "engine/vk/context.h"
@@ -59,6 +61,40 @@ SegmentOutcome JobEngine::segment(const SegmentJob& job, std::map<std::string, d
     return segment_job(segmenter(network), job, scene_.options, stage_ms, cancel, coarse);
 }
 
+ClassLabels JobEngine::label_by_class(const std::string& model, const std::atomic<bool>* cancel,
+                                      const std::function<void(size_t, size_t)>& progress,
+                                      std::map<std::string, double>& stage_ms) {
+    if (model.empty())
+        throw data::InputError("--semantic-model", "the shipped model assets/models/semantic.safetensors was not found "
+                                                   "(set PG_SEMANTIC_MODEL or give --semantic-model FILE.safetensors)");
+    if (!fs::exists(model)) throw data::InputError("--semantic-model", "'" + model + "' does not exist");
+    if (model != classifier_path_ || !classifier_) {
+        classifier_.reset();
+        classifier_path_.clear();
+        auto network = std::make_unique<app::Ptv3ClassNetwork>(ctx_, model, "--semantic-model");
+        class_names_ = network->config().class_names;
+        classifier_ = std::move(network);
+        classifier_path_ = model;
+    }
+    seg::SemanticLabelOptions o;
+    o.up = scene_.options.up;
+    o.seed = scene_.options.seed;
+    o.cancel = cancel;
+    o.progress = progress;
+    seg::SemanticLabels labels = seg::label_by_class(scene_.cloud, *classifier_, o);
+    stage_ms = labels.stage_ms;
+    ClassLabels out;
+    out.model = model;
+    out.names = class_names_;
+    out.names.resize(size_t(classifier_->classes()));
+    for (size_t c = 0; c < out.names.size(); ++c)
+        if (out.names[c].empty()) out.names[c] = "class_" + std::to_string(c);
+    out.classes = std::move(labels.classes);
+    out.confidence = std::move(labels.confidence);
+    out.counts = std::move(labels.class_counts);
+    return out;
+}
+
 void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::atomic<size_t>& total,
                       const std::atomic<bool>& cancel) {
     const fs::path out = rq.folder;
@@ -66,7 +102,10 @@ void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::a
     fs::create_directories(out);
     std::vector<fs::path> inputs{scene_.scene_path};
     if (!scene_.cameras_path.empty()) inputs.push_back(scene_.cameras_path);
-    const auto& labels = *rq.labels;
+    // Without objects (class labels alone) the object outputs are left out.
+    static const std::vector<int32_t> no_labels;
+    const auto& labels = rq.labels ? *rq.labels : no_labels;
+    const bool objects_labelled = rq.labels != nullptr;
     std::vector<seg::ExportObject> objects;
     std::map<int, glm::vec3> colours;
     for (auto& o : rq.document.objects) {
@@ -75,15 +114,26 @@ void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::a
     }
     if (rq.scene) {
         seg::refuse_overwriting(out / "scene.ply", inputs);
-        seg::write_labelled_scene(scene_.cloud, labels, out / "scene.ply");
+        if (rq.classes && objects_labelled) {
+            // Both properties in one file (one copy of the scene, not write_labelled_scene's two):
+            // `instance` as a segment export has it, and `class` as segment --semantic writes it.
+            data::GaussianCloud labelled = scene_.cloud;
+            labelled.set_int_property("instance", labels);
+            labelled.set_int_property("class", rq.classes->classes);
+            data::write_ply(labelled, out / "scene.ply");
+        } else if (rq.classes) {
+            seg::write_labelled_scene(scene_.cloud, rq.classes->classes, out / "scene.ply", "class");
+        } else {
+            seg::write_labelled_scene(scene_.cloud, labels, out / "scene.ply");
+        }
     }
-    if (rq.objects) seg::write_object_plys(scene_.cloud, labels, objects, out / "objects");
+    if (rq.objects && objects_labelled) seg::write_object_plys(scene_.cloud, labels, objects, out / "objects");
     if (rq.prompts) {
         data::write_prompts(rq.prompts_json, out / "prompts.json");
         if (scene_.cameras_path.empty()) data::write_inria_cameras_json(scene_.cameras, out / "cameras.json");
     }
     std::map<std::string, double> mask_ms;
-    if (rq.masks && !scene_.cameras.empty()) {
+    if (rq.masks && objects_labelled && !scene_.cameras.empty()) {
         std::vector<size_t> views(scene_.cameras.size());
         for (size_t i = 0; i < views.size(); ++i) views[i] = i;
         total = views.size();
@@ -124,6 +174,14 @@ void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::a
                                      {"gaussians", n},
                                      {"colour", {o.colour.r, o.colour.g, o.colour.b}},
                                      {"hidden", o.hidden}});
+        // Made from a class region: not in prompts.json, since its clicks alone do not make it.
+        if (o.region) report["objects"].back()["from"] = o.region->source;
+    }
+    if (rq.classes) {
+        report["semantic_model"] = rq.classes->model;
+        for (size_t c = 0; c < rq.classes->counts.size(); ++c)
+            report["classes"].push_back(
+                {{"id", c}, {"name", rq.classes->name(int(c))}, {"gaussians", rq.classes->counts[c]}});
     }
     for (auto& [name, ms] : rq.stage_ms) report["stage_ms"][name] = ms;
     for (auto& [name, ms] : mask_ms) report["stage_ms"][name] = ms;

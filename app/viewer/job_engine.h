@@ -1,19 +1,23 @@
 #pragma once
 // The job thread's half of the viewer: lifts clicks to 3D, segments one object at a time
-// through the same Segmenter as `pointgauss segment`, and writes exports.
+// through the same Segmenter as `pointgauss segment`, labels the scene by class as `segment
+// --semantic` does, and writes exports.
 #include <atomic>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "app/viewer/class_labels.h"
 #include "app/viewer/document.h"
 #include "app/viewer/session.h"
 #include "dataset/camera.h"
 #include "dataset/gaussian_cloud.h"
 #include "engine/render/renderer.h"
 #include "engine/segment/segmenter.h"
+#include "engine/segment/semantic_labeler.h"
 
 namespace pg::viewer {
 
@@ -24,6 +28,7 @@ struct SceneData {
     seg::SegmentOptions options;           // up, scale, seed: as `segment` would use them
     std::string up_spec;                   // how the up axis was found
     std::string model;                     // the network's file (empty: none; the graph decoder needs none)
+    std::string semantic_model;            // the class network's file for label by class (empty: none found)
 };
 
 struct ExportRequest {
@@ -34,6 +39,7 @@ struct ExportRequest {
     data::Prompts prompts_json;
     std::string decoder;
     std::map<std::string, double> stage_ms;
+    std::shared_ptr<const ClassLabels> classes;  // written as the scene's `class` property (may be null)
 };
 
 class JobEngine {
@@ -49,6 +55,12 @@ public:
     SegmentOutcome segment(const SegmentJob& job, std::map<std::string, double>& stage_ms,
                            const std::atomic<bool>* cancel = nullptr,
                            const std::function<void(SegmentOutcome)>& coarse = {});
+    // Every Gaussian's class from the semantic model at `model`, as `segment --semantic` labels
+    // the scene (its up axis, the model's tile); progress counts tiles. InputError for a
+    // missing file or one that is not a semantic model; seg::Cancelled when `cancel` is set.
+    ClassLabels label_by_class(const std::string& model, const std::atomic<bool>* cancel,
+                               const std::function<void(size_t done, size_t total)>& progress,
+                               std::map<std::string, double>& stage_ms);
     // Writes the chosen outputs; progress counts mask views.
     void write(const ExportRequest& request, std::atomic<size_t>& done, std::atomic<size_t>& total,
                const std::atomic<bool>& cancel);
@@ -62,6 +74,9 @@ private:
     render::Renderer lift_renderer_;
     std::map<std::string, std::unique_ptr<seg::Decoder>> decoders_;
     std::map<std::string, std::unique_ptr<seg::Segmenter>> segmenters_;
+    std::unique_ptr<seg::ClassNetwork> classifier_;  // the last semantic model used, kept loaded
+    std::string classifier_path_;
+    std::vector<std::string> class_names_;
 };
 
 }  // namespace pg::viewer

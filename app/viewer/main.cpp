@@ -15,6 +15,9 @@ int main(int argc, char** argv) {
                    "Camera file or COLMAP folder (default: cameras.json, transforms.json or sparse/0 beside the "
                    "scene; none: an orbit is made)");
     app.add_option("--model", o.model, "Decoder: a PTv3 model file (default: the shipped model), or ground-truth");
+    app.add_option("--semantic-model", o.semantic_model,
+                   "Label by class: a semantic PTv3 model file (default: PG_SEMANTIC_MODEL, else the shipped "
+                   "assets/models/semantic.safetensors)");
     app.add_option("--up", o.up, "Up axis: auto (from the cameras; -y, the COLMAP frame, for a scene without cameras), cameras, ground "
                    "(plane fit), or x,y,z / -y ...")
         ->capture_default_str();

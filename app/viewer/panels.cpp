@@ -1,4 +1,4 @@
-// The side panel: scene and device, view, objects, export, timings.
+// The side panel: scene and device, view, objects, classes, export, timings.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -6,6 +6,7 @@
 #include <imgui.h>
 
 #include "app/viewer/viewer.h"
+#include "dataset/report/palette.h"
 
 namespace pg::viewer {
 
@@ -37,6 +38,7 @@ void Viewer::draw_panels() {
 
     draw_view_panel();
     draw_objects_panel();
+    draw_classes_panel();
     draw_export_panel();
     draw_timings_panel();
     if (!status_.empty()) {
@@ -138,9 +140,55 @@ void Viewer::draw_objects_panel() {
             size_t pos = 0, neg = 0;
             for (auto& c : sel->clicks) (c.prompt.positive ? pos : neg)++;
             ImGui::TextDisabled("%zu positive, %zu negative clicks", pos, neg);
+            if (sel->region) ImGui::TextDisabled("from %s", sel->region->source.c_str());
             if (const std::string& error = session_.error(id); !error.empty())
                 ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error.c_str());
         }
+    }
+}
+
+void Viewer::draw_classes_panel() {
+    if (ImGui::CollapsingHeader("Classes", ImGuiTreeNodeFlags_DefaultOpen)) {
+        const bool running = class_job_ && class_job_->running;
+        ImGui::BeginDisabled(running);
+        if (ImGui::Button("Label by class")) label_by_class();
+        ImGui::EndDisabled();
+        ImGui::SameLine();
+        ImGui::TextDisabled("model: %s", scene_.semantic_model.empty() ? "none found"
+                                                                       : short_name(scene_.semantic_model).c_str());
+        if (running) {
+            const size_t total = std::max<size_t>(1, class_job_->total);
+            char text[64];
+            std::snprintf(text, sizeof text, "%zu / %zu tiles", size_t(class_job_->done), size_t(class_job_->total));
+            ImGui::ProgressBar(float(class_job_->done) / float(total), ImVec2(220, 0), text);
+            ImGui::SameLine();
+            if (ImGui::Button("Cancel##classes")) cancel_label_by_class();
+        }
+        if (!classes_) return;
+        bool tints = show_classes_;
+        if (ImGui::Checkbox("class tints", &tints)) show_classes(tints);
+        // The legend: swatch, name and count per class; choosing one is what the button below takes.
+        const ImGuiStyle& style = ImGui::GetStyle();
+        const float row = std::max(ImGui::GetTextLineHeightWithSpacing(), 14 + style.ItemSpacing.y);  // the swatch's
+        const float rows = float(std::min<size_t>(classes_->counts.size(), 8));
+        ImGui::BeginChild("classes", ImVec2(0, row * rows + 2 * style.WindowPadding.y), true);
+        for (size_t c = 0; c < classes_->counts.size(); ++c) {
+            ImGui::PushID(int(c));
+            const glm::vec3 colour = c == 0 ? glm::vec3(1.0f) : data::report::class_colour(int(c));
+            ImGui::ColorButton("##c", ImVec4(colour.r, colour.g, colour.b, 1), ImGuiColorEditFlags_NoTooltip,
+                               ImVec2(14, 14));
+            ImGui::SameLine();
+            char label[256];
+            std::snprintf(label, sizeof label, "%s%s  (%zu)", classes_->name(int(c)).c_str(),
+                          c == 0 ? " (no tint)" : "", classes_->counts[c]);
+            if (ImGui::Selectable(label, int(c) == class_chosen_)) class_chosen_ = int(c);
+            ImGui::PopID();
+        }
+        ImGui::EndChild();
+        ImGui::BeginDisabled(class_chosen_ < 0);
+        if (ImGui::Button("Object from the chosen class")) object_from_class(class_chosen_);
+        ImGui::EndDisabled();
+        ImGui::Checkbox("next click: object from its class region", &pick_class_region_);
     }
 }
 
@@ -151,7 +199,7 @@ void Viewer::draw_export_panel() {
         ImGui::SetNextItemWidth(250);
         if (ImGui::InputText("folder", panel_.folder, sizeof panel_.folder)) export_folder_ = panel_.folder;
         const bool running = export_ && export_->running;
-        ImGui::BeginDisabled(running || !session_.labels());
+        ImGui::BeginDisabled(running || (!session_.labels() && !classes_));
         if (ImGui::Button("Everything")) export_to(export_folder_, true, true, true, true);
         ImGui::SameLine();
         if (ImGui::Button("Scene PLY")) export_to(export_folder_, true, false, false, false);
@@ -191,6 +239,10 @@ void Viewer::draw_timings_panel() {
             timing_row("picture (wall)", picture_.wall_ms);
         }
         if (lift_ms_ > 0) timing_row("lift click", lift_ms_);
+        if (class_wall_ms_ > 0) {
+            timing_row("label by class (wall)", class_wall_ms_);
+            for (auto& [name, ms] : class_ms_) timing_row(("  " + name).c_str(), ms);
+        }
         if (segment_wall_ms_ > 0) {
             timing_row("segment (wall)", segment_wall_ms_);
             for (auto& [name, ms] : segment_ms_) timing_row(("  " + name).c_str(), ms);

@@ -12,7 +12,8 @@ namespace {
 const std::set<std::string> kKinds = {"snap",   "orbit",   "pan",      "zoom",   "frame",      "new_object",
                                       "click",  "click_pixel", "pick", "select", "rename", "recolour", "hide",
                                       "delete", "isolate", "tints",    "mask",   "decoder",    "undo",
-                                      "redo",   "export",  "screenshot"};
+                                      "redo",   "export",  "screenshot", "label_by_class", "class_tints",
+                                      "object_from_class"};
 const std::set<std::string> kOptions = {"negative", "view", "wait"};
 
 void need(bool ok, const std::string& where, const std::string& what) {
@@ -64,6 +65,12 @@ std::vector<Action> read_script(const std::filesystem::path& path) {
             need(v.is_string(), where, "'" + k + "' expects a string");
         else if (k == "screenshot")
             need(v.is_string() && !v.get<std::string>().empty(), where, "'screenshot' expects a file name");
+        else if (k == "label_by_class")
+            need((v.is_boolean() && v.get<bool>()) || (v.is_string() && !v.get<std::string>().empty()), where,
+                 "'label_by_class' expects true or a semantic model file");
+        else if (k == "object_from_class")
+            need(v.is_string() || v.is_number_integer() || numbers(v, 2), where,
+                 "'object_from_class' expects a class name or id, or a point [x, y] of the picture");
         else if (k == "export")
             need(v.is_string() || (v.is_object() && v.contains("folder") && v["folder"].is_string()), where,
                  "'export' expects a folder or {\"folder\": ...}");

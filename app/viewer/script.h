@@ -11,6 +11,9 @@
 //   {"click_pixel": [120, 88], "negative": true},   a pixel of the snapped dataset camera
 //   {"select": 2}, {"pick": [0.5, 0.4]} (the object under that point), {"rename": "cup"}, {"recolour": [1, 0.5, 0]}, {"hide": true}, {"delete": true},
 //   {"isolate": true}, {"tints": true}, {"mask": false}, {"decoder": "ground-truth"},
+//   {"label_by_class": true} (or a semantic model file), {"class_tints": false},
+//   {"object_from_class": "building"} (a class by name or id: all of it; or [0.5, 0.4]: the
+//                                          connected region of the class under that point),
 //   {"undo": 1}, {"redo": 1},
 //   {"export": "out/dir"} or {"export": {"folder": "out/dir", "masks": false, ...}},
 //   {"screenshot": "a.png"}               the window; {"screenshot": "v.png", "view": true}: the picture only

@@ -83,6 +83,22 @@ void ScriptRunner::run(Viewer& viewer, const Action& a) {
         viewer.show_mask(v.get<bool>());
     } else if (k == "decoder") {
         if (!viewer.set_decoder(v.get<std::string>())) fail("decoder '" + v.get<std::string>() + "' is not available");
+    } else if (k == "label_by_class") {
+        viewer.label_by_class(v.is_string() ? v.get<std::string>() : std::string());
+    } else if (k == "class_tints") {
+        viewer.show_classes(v.get<bool>());
+    } else if (k == "object_from_class") {
+        const ClassLabels* classes = viewer.classes();
+        if (!classes) fail("no class labels yet: run label_by_class first");
+        if (v.is_array()) {
+            const double x = v[0].get<double>(), y = v[1].get<double>();
+            if (x < 0 || y < 0 || x >= 1 || y >= 1) fail("the point lies outside the picture");
+            viewer.object_from_class_at(x, y);
+        } else {
+            const int cls = classes->find(v.is_string() ? v.get<std::string>() : std::to_string(v.get<int>()));
+            if (cls < 0) fail("no class " + v.dump());
+            if (!viewer.object_from_class(cls)) fail("class " + v.dump() + " holds no Gaussians");
+        }
     } else if (k == "undo") {
         for (int i = 0; i < v.get<int>(); ++i) doc.undo();
     } else if (k == "redo") {

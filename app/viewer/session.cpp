@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <unordered_map>
 
 #include <nlohmann/json.hpp>
 
@@ -21,6 +22,15 @@ std::string signature(const data::ObjectPrompt& object, size_t index, const std:
         j["clicks"].push_back(jc);
     }
     return j.dump();
+}
+
+constexpr int kAdd = 1, kTake = 2;  // a region edit job's two objects
+
+// A click of a region object's "take" side: its negative clicks are that side's positives.
+Click flipped(Click c) {
+    c.prompt.positive = !c.prompt.positive;
+    c.anchor.positive = !c.anchor.positive;
+    return c;
 }
 
 }  // namespace
@@ -76,7 +86,39 @@ void Session::sync(const Document& doc, const std::string& decoder) {
         signatures_.push_back(signature(prompts_.objects[k], k, decoder));
         joint_signature_ += signatures_.back() + "\n";
     }
+    regions_.clear();
+    for (const Object& o : doc.state().objects) {
+        if (!o.region) continue;
+        RegionEdits r{o.id, o.name, o.region, {}, {}, {}};
+        // The add side: the positive clicks, with the negative ones as negatives (network alone).
+        // The take side: the other way round. Solved jointly, each side's clicks seed its own label.
+        for (const bool take : {false, true}) {
+            data::ObjectPrompt side;
+            side.id = take ? kTake : kAdd;
+            side.name = o.name + (take ? " -" : " +");
+            std::vector<seg::Anchor> anchors;
+            for (const Click& c : o.clicks) {
+                const Click mine = take ? flipped(c) : c;
+                if (!mine.prompt.positive && joint_) continue;
+                side.clicks.push_back(mine.prompt);
+                anchors.push_back(mine.anchor);
+            }
+            if (std::none_of(side.clicks.begin(), side.clicks.end(), [](auto& c) { return c.positive; })) continue;
+            r.prompts.objects.push_back(std::move(side));
+            r.anchors.push_back(std::move(anchors));
+        }
+        if (!r.prompts.objects.empty()) {
+            r.signature = "region " + std::to_string(o.id) + "\n";
+            for (size_t k = 0; k < r.prompts.objects.size(); ++k)
+                r.signature += signature(r.prompts.objects[k], k, decoder) + "\n";
+        }
+        regions_.push_back(std::move(r));
+    }
     assemble();
+}
+
+const SegmentOutcome* Session::cached(const RegionEdits& r) const {
+    return r.signature.empty() ? nullptr : find(r.id, r.signature);
 }
 
 const SegmentOutcome* Session::find(int key, const std::string& sig) const {
@@ -101,20 +143,35 @@ std::optional<SegmentJob> Session::next_job() {
         else flying_ = SegmentJob{{{prompts_.objects[k]}}, {anchors_[k]}, k, decoder_, signatures_[k]};
         return flying_;
     }
+    for (const RegionEdits& r : regions_) {
+        if (r.signature.empty() || cached(r)) continue;
+        in_flight_ = true;
+        coarse_.reset();
+        flying_ = SegmentJob{r.prompts, r.anchors, 0, decoder_, r.signature, r.id};
+        return flying_;
+    }
     return std::nullopt;
 }
 
 bool Session::in_flight_stale() const {
     if (!in_flight_) return false;
+    if (flying_.region)
+        return std::none_of(regions_.begin(), regions_.end(),
+                            [&](auto& r) { return r.signature == flying_.signature; });
     if (decoder_is_joint(flying_.decoder)) return !joint_ || flying_.signature != joint_signature_;
     return std::find(signatures_.begin(), signatures_.end(), flying_.signature) == signatures_.end();
 }
 
 bool Session::in_flight_covers(int id) const {
     if (!in_flight_) return false;
+    if (flying_.region) return flying_.region == id;  // its objects are the edit's two sides
     for (auto& o : flying_.prompts.objects)
         if (o.id == id) return true;
     return false;
+}
+
+bool Session::in_flight_joint() const {
+    return in_flight_ && !flying_.region && decoder_is_joint(flying_.decoder);
 }
 
 void Session::store_coarse(const SegmentJob& job, SegmentOutcome outcome) {
@@ -130,9 +187,16 @@ void Session::store(const SegmentJob& job, SegmentOutcome outcome) {
         assemble();
         return;
     }
-    const bool joint = decoder_is_joint(job.decoder);
-    if (!joint && job.prompts.objects.size() != 1) throw std::logic_error("Session::store: a one-object job expected");
-    auto& results = cache_[joint ? kJoint : job.prompts.objects.front().id];
+    if (job.region) {
+        // Errors belong to the region object, not to the edit's sides.
+        std::map<int, std::string> errors;
+        for (auto& [side, e] : outcome.errors) errors.emplace(job.region, e);
+        outcome.errors = std::move(errors);
+    }
+    const bool joint = decoder_is_joint(job.decoder) && !job.region;
+    if (!joint && !job.region && job.prompts.objects.size() != 1)
+        throw std::logic_error("Session::store: a one-object job expected");
+    auto& results = cache_[job.region ? job.region : joint ? kJoint : job.prompts.objects.front().id];
     results.push_back({job.signature, std::move(outcome)});
     if (results.size() > kResultsPerObject) results.erase(results.begin());
     assemble();
@@ -142,6 +206,8 @@ bool Session::settled() const {
     if (in_flight_) return false;
     for (size_t k = 0; k < prompts_.objects.size(); ++k)
         if (!cached(k)) return false;
+    for (const RegionEdits& r : regions_)
+        if (!r.signature.empty() && !cached(r)) return false;
     return true;
 }
 
@@ -158,7 +224,52 @@ const std::string& Session::error(int id) const {
                 if (auto e = c->errors.find(id); e != c->errors.end()) return e->second;
                 return c->error;
             }
+    for (const RegionEdits& r : regions_)
+        if (r.id == id)
+            if (const SegmentOutcome* c = cached(r)) {
+                if (auto e = c->errors.find(id); e != c->errors.end()) return e->second;
+                return c->error;
+            }
     return none;
+}
+
+const seg::ObjectResult& Session::region_result(const RegionEdits& r, const SegmentOutcome* edits) {
+    RegionResult& made = region_results_[r.id];
+    made.result.name = r.name;
+    const std::string signature = edits ? r.signature : std::string();
+    if (made.region == r.region && made.edits == signature && made.serial) return made.result;
+    made.region = r.region;
+    made.edits = signature;
+    made.serial = ++region_serial_;
+    // What the clicks add and take away (their ROIs: small beside the region).
+    std::unordered_map<uint32_t, float> add, take;
+    if (edits)
+        for (const seg::ObjectResult& side : edits->results)
+            for (auto [g, p] : side.claims) {
+                float& to = (side.id == kTake ? take : add)[g];
+                to = std::max(to, p);
+            }
+    auto taken = [&](uint32_t g, float added) {
+        auto t = take.find(g);
+        return t != take.end() && t->second >= added;  // both: the more probable side, ties taken
+    };
+    seg::ObjectResult& result = made.result;
+    result = seg::ObjectResult{};
+    result.id = r.id;
+    result.name = r.name;
+    const Region& region = *r.region;
+    for (size_t i = 0; i < region.gaussians.size(); ++i) {
+        const uint32_t g = region.gaussians[i];
+        if (g >= gaussians_) continue;
+        auto a = add.find(g);
+        const float added = a == add.end() ? 0.0f : a->second;
+        if (a != add.end()) add.erase(a);
+        if (!taken(g, added)) result.claims.emplace_back(g, std::max(region.probability[i], added));
+    }
+    for (auto [g, p] : add)
+        if (g < gaussians_ && !taken(g, p)) result.claims.emplace_back(g, p);
+    std::sort(result.claims.begin(), result.claims.end());
+    return result;
 }
 
 void Session::assemble() {
@@ -181,6 +292,16 @@ void Session::assemble() {
                 key += std::to_string(r.id) + (coarse ? "~" : ":") + sig + ";";
             }
     }
+    // Region objects: the region with the edits of their present clicks; the bare region while
+    // those are being segmented.
+    for (const RegionEdits& r : regions_) {
+        const SegmentOutcome* edits = cached(r);
+        current.push_back(&region_result(r, edits));
+        key += std::to_string(r.id) + "R" + std::to_string(region_results_[r.id].serial) + ";";
+    }
+    std::erase_if(region_results_, [&](auto& entry) {
+        return std::none_of(regions_.begin(), regions_.end(), [&](auto& r) { return r.id == entry.first; });
+    });
     if (key == assembled_) return;
     assembled_ = key;
     seg::SegmentResult result;

@@ -8,6 +8,13 @@
 // The network alone (`ptv3`, `ground-truth`) segments object by object: a click re-segments
 // its own object only. The graph decoders (`graph`, `ptv3+graph`) solve every object at once,
 // since each object's clicks are the others' negatives: any click re-solves them all.
+//
+// An object made from a region (a class's Gaussians: Document's Region) is that region as its
+// clicks correct it: its positive clicks segment what they add, its negative clicks (taken as
+// positives of their own) what they take away, both in one job through segment_job (the graph
+// decoders solve the two together, the network alone each with the other's clicks as
+// negatives). A Gaussian both added and taken goes to the more probable. Such a job is the
+// object's alone, whatever the decoder: the other objects' solves do not see the region.
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -35,6 +42,7 @@ struct SegmentJob {
     size_t index = 0;           // a one-object job: the object's index in prompts.json (`segment` partitions object k with seed + k)
     std::string decoder;
     std::string signature;      // everything its result depends on
+    int region = 0;             // a region object's edits (see above): that object's id
 };
 
 struct SegmentOutcome {
@@ -70,6 +78,8 @@ public:
     bool in_flight_stale() const;
     // The job in flight segments object `id` (a new click on it makes the job stale).
     bool in_flight_covers(int id) const;
+    // The job in flight solves every clicked object together (a click on any of them makes it stale).
+    bool in_flight_joint() const;
     bool showing_coarse() const { return showing_coarse_; }  // labels() holds a coarse answer
     bool settled() const;  // nothing out and every object's result current
 
@@ -87,6 +97,18 @@ private:
         std::string signature;
         SegmentOutcome outcome;
     };
+    // A region object, and the job that segments its clicks' edits.
+    struct RegionEdits {
+        int id = 0;
+        std::string name;
+        std::shared_ptr<const Region> region;
+        data::Prompts prompts;  // what its clicks add and take away (empty: no clicks, the region as it is)
+        seg::LiftedClicks anchors;
+        std::string signature;
+    };
+    const SegmentOutcome* cached(const RegionEdits& r) const;
+    // The region object as its current edits leave it (cached per object).
+    const seg::ObjectResult& region_result(const RegionEdits& r, const SegmentOutcome* edits);
     static constexpr int kJoint = -1;  // cache key of joint solves (object ids are positive)
     // The cached outcome that covers object k's present clicks, if any.
     const SegmentOutcome* cached(size_t k) const;
@@ -101,7 +123,16 @@ private:
     seg::LiftedClicks anchors_;           // where their clicks landed
     std::vector<std::string> signatures_;  // per object of prompts_
     std::string joint_signature_;          // all of them
+    std::vector<RegionEdits> regions_;     // the document's region objects
     std::map<int, std::vector<Cached>> cache_;  // per object id (kJoint: joint solves), newest last
+    struct RegionResult {
+        std::shared_ptr<const Region> region;  // what it was made from: the region and its edits' signature
+        std::string edits;
+        uint64_t serial = 0;                   // which making (for assemble()'s key)
+        seg::ObjectResult result;
+    };
+    std::map<int, RegionResult> region_results_;  // per region object
+    uint64_t region_serial_ = 0;
     bool in_flight_ = false;
     SegmentJob flying_;                    // the job in flight (its prompts, decoder and signature)
     std::optional<Cached> coarse_;         // its coarse answer, if one came

@@ -13,6 +13,7 @@
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 
+#include "app/common/ptv3_classifier.h"
 #include "app/common/ptv3_decoder.h"
 #include "app/common/up_arg.h"
 #include "app/viewer/script_runner.h"
@@ -22,6 +23,7 @@
 #include "dataset/formats/scene_io.h"
 #include "dataset/orbit.h"
 #include "dataset/prompts.h"
+#include "dataset/report/palette.h"
 
 namespace pg::viewer {
 
@@ -62,6 +64,15 @@ void save_rgba(const fs::path& path, const std::vector<uint8_t>& rgba, int w, in
 }  // namespace
 
 Viewer::Viewer(const ViewerOptions& options) : options_(options) {
+    try {
+        open(options);
+    } catch (...) {
+        release();  // a bad scene or option after the window opened: its surface goes before the instance
+        throw;
+    }
+}
+
+void Viewer::open(const ViewerOptions& options) {
     if (!options.script.empty() || !options.screenshot.empty())
         script_ = std::make_unique<ScriptRunner>(options.script.empty() ? std::vector<Action>{} : read_script(options.script),
                                                  options.screenshot);
@@ -87,8 +98,11 @@ Viewer::Viewer(const ViewerOptions& options) : options_(options) {
     if (script_) render_scale_ = options.render_scale > 0 ? options.render_scale : 1.0;
 }
 
-Viewer::~Viewer() {
+Viewer::~Viewer() { release(); }
+
+void Viewer::release() {
     if (export_) export_->cancel = true;
+    if (class_job_) class_job_->cancel = true;
     jobs_.reset();
     frames_.reset();
     inbox_.drain();  // pictures waiting there hold device buffers
@@ -198,6 +212,10 @@ void Viewer::load(const ViewerOptions& o, const data::LoadProgress& progress) {
                                                 (want == "ground-truth" ? "the scene has no 'instance' property"
                                                                         : "no model found: set PG_MODEL or give --model") +
                                                 ")");
+    // Label by class: --semantic-model, else the shipped semantic model (none: the action says so).
+    if (!o.semantic_model.empty() && !fs::exists(o.semantic_model))
+        throw data::InputError("--semantic-model", "'" + o.semantic_model + "' does not exist");
+    scene_.semantic_model = o.semantic_model.empty() ? app::default_semantic_model_path() : o.semantic_model;
     export_folder_ = o.out.empty() ? (fs::path(o.scene).stem().string() + "-segmentation") : o.out;
 }
 
@@ -330,8 +348,10 @@ void Viewer::click_at(double x, double y, bool positive) {
         prompt.v = v;
     }
     // The lift waits on the job thread behind a segmentation in flight: one this click makes
-    // pointless (a joint solve, or its own object's) stops now.
-    if (session_.in_flight() && (decoder_is_joint(decoder_) || session_.in_flight_covers(doc_.state().selected)))
+    // pointless (a joint solve, unless the click edits a region object, or its own object's) stops now.
+    const Object* selected = doc_.selected();
+    const bool edits_region = selected && selected->region;
+    if (session_.in_flight_covers(doc_.state().selected) || (session_.in_flight_joint() && !edits_region))
         cancel_segmentation();
     jobs_->post([this, cam, u, v, prompt]() mutable {
         const auto t0 = Clock::now();
@@ -356,8 +376,8 @@ void Viewer::export_to(const std::string& folder, bool scene, bool objects, bool
         status("an export is already running", true);
         return;
     }
-    if (!session_.labels()) {
-        status("nothing to export yet: click an object first", true);
+    if (!session_.labels() && !classes_) {
+        status("nothing to export yet: click an object (or label by class) first", true);
         return;
     }
     ExportRequest rq;
@@ -371,6 +391,7 @@ void Viewer::export_to(const std::string& folder, bool scene, bool objects, bool
     rq.prompts_json = doc_.prompts();
     rq.decoder = decoder_;
     rq.stage_ms = segment_ms_;
+    rq.classes = classes_;
     export_ = std::make_shared<ExportProgress>();
     export_->running = true;
     auto progress = export_;
@@ -458,7 +479,23 @@ std::vector<glm::vec4> Viewer::palette() const {
         if (o.hidden || (isolate_ && o.id != selected)) a = -1.0f;
         p[size_t(o.id)] = glm::vec4(o.colour, a);
     }
+    // Classes past the objects: tinted as the class overlays of segment --semantic, class 0 not at all.
+    if (classes_ && show_classes_) {
+        p.resize(size_t(class_base()), p.front());
+        for (size_t c = 0; c < classes_->counts.size(); ++c) {
+            const float a = isolate_ ? -1.0f : c == 0 ? 0.0f : 0.5f;
+            p.push_back(glm::vec4(data::report::class_colour(int(c)), a));
+        }
+    }
     return p;
+}
+
+int Viewer::class_base() const {
+    // A multiple of 64 past every object id: it moves (and the frame thread rebuilds its tint
+    // labels) once every 64 new objects, not with each.
+    int max_id = 0;
+    for (auto& o : doc_.state().objects) max_id = std::max(max_id, o.id);
+    return (max_id / 64 + 1) * 64;
 }
 
 FrameRequest Viewer::frame_request(bool still) const {
@@ -476,6 +513,11 @@ FrameRequest Viewer::frame_request(bool still) const {
     }
     rq.labels = session_.labels();
     rq.labels_version = session_.labels_version();
+    if (classes_ && show_classes_) {
+        rq.classes = std::shared_ptr<const std::vector<int32_t>>(classes_, &classes_->classes);
+        rq.classes_version = classes_version_;
+        rq.class_base = class_base();
+    }
     rq.palette = palette();
     rq.mask = still && show_mask_ && rq.labels;
     rq.preview = !still;
@@ -489,9 +531,10 @@ void Viewer::request_frame() {
     FrameRequest rq = frame_request(still);
     const auto& c = rq.camera;
     char key[256];
-    std::snprintf(key, sizeof key, "%s %d %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %llu %d %d|", c.name.c_str(), c.width,
-                  c.height, c.fx, c.fy, c.cx, c.cy, c.t.x, c.t.y, c.t.z, (unsigned long long)rq.labels_version,
-                  int(rq.mask), int(rq.preview));
+    std::snprintf(key, sizeof key, "%s %d %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %llu %llu %d %d %d|", c.name.c_str(),
+                  c.width, c.height, c.fx, c.fy, c.cx, c.cy, c.t.x, c.t.y, c.t.z, (unsigned long long)rq.labels_version,
+                  (unsigned long long)(rq.classes ? rq.classes_version : 0), rq.class_base, int(rq.mask),
+                  int(rq.preview));
     std::string k = key;
     for (int i = 0; i < 9; ++i) k += std::to_string(c.R[i / 3][i % 3]) + ",";
     for (auto& p : rq.palette) k += std::to_string(p.r + 2 * p.g + 4 * p.b) + "/" + std::to_string(p.a) + ",";

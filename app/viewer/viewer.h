@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "app/viewer/class_labels.h"
 #include "app/viewer/document.h"
 #include "dataset/formats/scene_io.h"
 #include "app/viewer/frame_engine.h"
@@ -26,7 +27,8 @@ namespace pg::viewer {
 class ScriptRunner;
 
 struct ViewerOptions {
-    std::string scene, cameras, model, decoder, up = "auto", device, script, screenshot, out, prompts, lift = "surface";
+    std::string scene, cameras, model, semantic_model, decoder, up = "auto", device, script, screenshot, out, prompts;
+    std::string lift = "surface";
     std::string max_device_memory;  // a scene past it (or past the device's largest binding) is streamed
     bool half_sh = false;
     int width = 1400, height = 860;
@@ -55,6 +57,16 @@ public:
     void isolate(bool on) { isolate_ = on; }
     void set_render_scale(double scale) { render_scale_ = scale; }
     void export_to(const std::string& folder, bool scene, bool objects, bool masks, bool prompts);
+    // Label by class (classes.cpp): every Gaussian's class from the semantic model (`model`, else
+    // --semantic-model or the shipped one), on the job thread; the result replaces any earlier.
+    void label_by_class(const std::string& model = {});
+    void cancel_label_by_class();
+    void show_classes(bool on) { show_classes_ = on; }
+    // A new object from class `cls`: all its Gaussians, or (at a point of the picture) the
+    // connected region of the class under it. Selected once made; clicks then correct it.
+    bool object_from_class(int cls);
+    void object_from_class_at(double picture_x, double picture_y);
+    const ClassLabels* classes() const { return classes_.get(); }  // null before label by class
     void save_picture(const std::string& png) const;   // the rendered view, without the panels
     void save_window(const std::string& png) { capture_path_ = png; }  // at the next settled frame
     void quit() { quit_ = true; }
@@ -71,6 +83,8 @@ private:
         std::atomic<bool> cancel{false}, running{false};
     };
 
+    void open(const ViewerOptions& options);  // the constructor's work
+    void release();                           // the destructor's: workers first, the context last
     void load(const ViewerOptions& options, const data::LoadProgress& progress);
     void load_in_window(const ViewerOptions& options);
     void load_prompts(const std::string& path);
@@ -79,10 +93,12 @@ private:
     void request_frame();
     FrameRequest frame_request(bool still) const;
     std::vector<glm::vec4> palette() const;
+    int class_base() const;  // the palette index of class 0: past every object id
     void handle_input();
     void draw_panels();  // the side panel: one section each below
     void draw_view_panel();
     void draw_objects_panel();
+    void draw_classes_panel();
     void draw_export_panel();
     void draw_timings_panel();
     void draw_markers();
@@ -129,6 +145,20 @@ private:
     std::shared_ptr<std::atomic<bool>> segment_cancel_;  // the job in flight's
     std::map<std::string, double> segment_ms_;
     double segment_wall_ms_ = 0, lift_ms_ = 0;
+
+    // Label by class.
+    struct ClassJob {
+        std::atomic<size_t> done{0}, total{0};
+        std::atomic<bool> cancel{false}, running{false};
+    };
+    std::shared_ptr<ClassJob> class_job_;
+    std::shared_ptr<const ClassLabels> classes_;
+    uint64_t classes_version_ = 0;
+    std::map<std::string, double> class_ms_;
+    double class_wall_ms_ = 0;
+    bool show_classes_ = true;
+    int class_chosen_ = -1;           // in the legend
+    bool pick_class_region_ = false;  // the next click in the view makes an object from the class region under it
 
     // Export and status.
     std::string export_folder_;

@@ -49,3 +49,16 @@ TEST_CASE("script errors name the file, the action and the reason", "[viewer]") 
     REQUIRE(error_of(R"({"actions": [{"hide": "yes"}]})").find("true or false") != std::string::npos);
     REQUIRE(error_of("{not json").find("bad.json") != std::string::npos);
 }
+
+TEST_CASE("label by class actions parse, and their mistakes are named", "[viewer]") {
+    auto actions = pg::viewer::read_script(write("classes.json", R"({"actions": [
+        {"label_by_class": true}, {"label_by_class": "semantic.safetensors"}, {"class_tints": false},
+        {"object_from_class": "building"}, {"object_from_class": 2}, {"object_from_class": [0.5, 0.4]}]})"));
+    REQUIRE(actions.size() == 6);
+    CHECK(actions[1].value == "semantic.safetensors");
+    CHECK(actions[5].kind == "object_from_class");
+    CHECK(error_of(R"({"actions": [{"label_by_class": false}]})").find("true or a semantic model") !=
+          std::string::npos);
+    CHECK(error_of(R"({"actions": [{"object_from_class": [0.5]}]})").find("class name or id") != std::string::npos);
+    CHECK(error_of(R"({"actions": [{"class_tints": 1}]})").find("true or false") != std::string::npos);
+}
