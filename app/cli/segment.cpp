@@ -221,7 +221,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("scene", a->scene, "Scene file")->required();
     cmd->add_option("--cameras", a->cameras, "Camera file or COLMAP folder")->required();
     cmd->add_option("--prompts", a->prompts, "prompts.json: objects and their clicks (required unless --semantic)");
-    cmd->add_flag("--semantic", a->semantic, "No clicks: label every Gaussian by class with the semantic model (default: the shipped assets/models/semantic.safetensors)");
+    cmd->add_flag("--semantic", a->semantic, "No clicks: label every Gaussian by class with the semantic model (default: the shipped assets/models/semantic.safetensors; ground-truth reads the scene's 'class' property, an evaluation tool)");
     cmd->add_option("--tile", a->tile, "--semantic: tile side in scene units (default: the model's)");
     cmd->add_option("--out", a->out, "Output folder")->required();
     cmd->add_option("--model", a->model, "Decoder: a PTv3 model file (.safetensors; default: the shipped assets/models/interactive.safetensors), or ground-truth (evaluation tool reading the scene's labels)");

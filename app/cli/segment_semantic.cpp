@@ -13,6 +13,7 @@
 #include "app/common/up_arg.h"
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
+#include "dataset/eval/suite_info.h"
 #include "dataset/formats/camera_io.h"
 #include "dataset/formats/scene_io.h"
 #include "dataset/report/palette.h"
@@ -24,6 +25,22 @@ namespace pg::app {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// Class names of the suite a scene file lies in (SUITE/SCENE/scene.ply), if it is one.
+std::vector<std::string> suite_class_names_near(const std::string& scene) {
+    const fs::path suite = fs::absolute(scene).parent_path().parent_path();
+    std::vector<std::string> names;
+    if (!fs::exists(suite / "suite.json")) return names;
+    for (const auto& c : data::eval::read_suite_json(suite).classes) {
+        if (c.id != int32_t(names.size())) return {};
+        names.push_back(c.name);
+    }
+    return names;
+}
+
+}  // namespace
+
 void run_segment_semantic(const SemanticSegmentArgs& a) {
     scene_budget(a.device);
     const auto total_start = std::chrono::steady_clock::now();
@@ -31,7 +48,8 @@ void run_segment_semantic(const SemanticSegmentArgs& a) {
     if (model.empty())
         throw data::InputError("--model", "the shipped model assets/models/semantic.safetensors was not found "
                                           "(set PG_SEMANTIC_MODEL or give --model FILE.safetensors)");
-    if (!fs::exists(model)) throw data::InputError("--model", "'" + model + "' does not exist");
+    const bool ground_truth = model == "ground-truth";
+    if (!ground_truth && !fs::exists(model)) throw data::InputError("--model", "'" + model + "' does not exist");
     if (a.tile < 0) throw data::InputError("--tile", "must be positive (0: the model's)");
     const auto mode = seg::parse_label_mode(a.mode);
     auto cloud = load_scene_shown(a.scene);
@@ -46,18 +64,34 @@ void run_segment_semantic(const SemanticSegmentArgs& a) {
     vk::ContextOptions co;
     co.device = a.device.device;
     vk::Context ctx(co);
-    Ptv3ClassNetwork network(ctx, model);
-    const auto& names = network.config().class_names;
-    auto class_name = [&](int c) { return c < int(names.size()) ? names[size_t(c)] : "class_" + std::to_string(c); };
-
     seg::SemanticLabelOptions o;
     o.up = resolve_up(a.up, cameras, cloud);
     o.tile = a.tile;
     o.seed = a.seed;
-    Progress progress("tiles", 100);
-    o.progress = [&](size_t done, size_t total) { progress.set(total ? 100 * done / total : 100, "% of the tiles"); };
-    const seg::SemanticLabels labels = seg::label_by_class(cloud, network, o);
-    progress.finish();
+    seg::SemanticLabels labels;
+    std::vector<std::string> names;
+    int classes = 0;
+    double tile = 0;
+    if (ground_truth) {
+        // An evaluation tool, as for clicks: the scene's own classes, so the 2D stages are measured alone.
+        auto gt = cloud.int_property("class");
+        if (!gt) throw data::InputError(a.scene, "has no integer property 'class' for the ground-truth model");
+        names = suite_class_names_near(a.scene);
+        for (int32_t c : *gt) classes = std::max(classes, c + 1);
+        classes = std::max(classes, int(names.size()));
+        labels.classes = std::move(*gt);
+        labels.class_counts.assign(size_t(classes), 0);
+        for (int32_t c : labels.classes) ++labels.class_counts[size_t(std::max(c, 0))];
+    } else {
+        Ptv3ClassNetwork network(ctx, model);
+        names = network.config().class_names;
+        classes = network.classes();
+        tile = a.tile > 0 ? a.tile : network.tile_size();
+        Progress progress("tiles", 100);
+        o.progress = [&](size_t done, size_t total) { progress.set(total ? 100 * done / total : 100, "% of the tiles"); };
+        labels = seg::label_by_class(cloud, network, o);
+    }
+    auto class_name = [&](int c) { return c < int(names.size()) ? names[size_t(c)] : "class_" + std::to_string(c); };
     std::map<std::string, double> stage_ms = labels.stage_ms;
 
     fs::create_directories(out);
@@ -68,13 +102,13 @@ void run_segment_semantic(const SemanticSegmentArgs& a) {
     report["mode"] = "semantic";
     report["gaussians"] = cloud.size();
     report["up"] = {o.up.x, o.up.y, o.up.z};
-    report["tile"] = a.tile > 0 ? a.tile : network.tile_size();
+    report["tile"] = tile;
     report["tiles"] = labels.tiles;
     report["batches"] = labels.batches;
     report["forwards"] = labels.forwards;
     report["unvoted"] = labels.unvoted;
     std::vector<seg::ExportObject> present;
-    for (int c = 0; c < network.classes(); ++c) {
+    for (int c = 0; c < classes; ++c) {
         report["classes"].push_back({{"id", c}, {"name", class_name(c)}, {"gaussians", labels.class_counts[size_t(c)]}});
         if (labels.class_counts[size_t(c)]) present.push_back({c, class_name(c)});
     }
@@ -94,7 +128,7 @@ void run_segment_semantic(const SemanticSegmentArgs& a) {
         vo.masks.refine = false;
         vo.colour = [](uint32_t c) { return data::report::class_colour(int(c)); };
         vo.legend.push_back({class_name(0) + " (no tint)", glm::vec3(1.0f)});
-        for (int c = 1; c < network.classes(); ++c) vo.legend.push_back({class_name(c), data::report::class_colour(c)});
+        for (int c = 1; c < classes; ++c) vo.legend.push_back({class_name(c), data::report::class_colour(c)});
         Progress views_progress("masks", views.size());
         vo.progress = [&](size_t, const std::string& view) {
             views_progress.step(view);

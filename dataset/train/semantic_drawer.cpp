@@ -47,10 +47,16 @@ SemanticDrawer::SemanticDrawer(std::vector<SemanticScene> scenes, int classes, S
     if (scenes_.empty()) throw InputError("--data", "holds no scenes");
     for (const auto& s : scenes_) {
         if (s.size() == 0) throw InputError(s.name, "has no Gaussians");
-        for (int32_t c : s.classes)
+        std::vector<std::vector<uint32_t>> members(size_t(classes_), std::vector<uint32_t>{});
+        for (size_t i = 0; i < s.size(); ++i) {
+            const int32_t c = s.classes[i];
             if (c < 0 || c >= classes_)
                 throw InputError(s.name, "has class " + std::to_string(c) + ", outside the model's " +
                                              std::to_string(classes_) + " classes");
+            members[size_t(c)].push_back(uint32_t(i));
+        }
+        std::erase_if(members, [](const auto& m) { return m.empty(); });
+        by_class_.push_back(std::move(members));
     }
 }
 
@@ -59,7 +65,13 @@ SemanticSample SemanticDrawer::draw(Rng& rng) const {
     SemanticSample out;
     out.scene = size_t(rng.below(int(scenes_.size())));
     const SemanticScene& sc = scenes_[out.scene];
-    const glm::dvec3 anchor(sc.positions[size_t(rng.next() % sc.size())]);
+    size_t pick = size_t(rng.next() % sc.size());
+    if (o.balance > 0 && rng.chance(o.balance)) {
+        const auto& classes = by_class_[out.scene];
+        const auto& members = classes[size_t(rng.below(int(classes.size())))];
+        pick = members[size_t(rng.next() % members.size())];
+    }
+    const glm::dvec3 anchor(sc.positions[pick]);
     const glm::dvec2 plane = semantic::plane_coords(anchor, sc.up) +
                              glm::dvec2(rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5)) * o.tile;
     const std::vector<uint32_t> column = semantic::column_members(sc.positions, sc.up, plane, o.tile);

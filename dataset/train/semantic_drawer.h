@@ -3,7 +3,9 @@
 // (dataset/semantic/scene_tiles.h): a tile column of the scene, its network frame, one
 // partition batch's worth of its Gaussians, their appearance features, and their classes.
 // The column's centre is a random Gaussian's, moved by up to half a tile, so tiles land on the
-// scene as the inference grid does: everywhere there is content, in every alignment.
+// scene as the inference grid does: everywhere there is content, in every alignment. A share of
+// the draws (`balance`) first picks a class present in the scene uniformly, then one of its
+// Gaussians, so rare classes (a sports field's few hundred Gaussians among 300 k) are seen.
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -25,6 +27,7 @@ struct SemanticOptions {
     double scale_min = 0.9, scale_max = 1.1;
     double jitter_sigma = 0.002, jitter_clip = 0.01;  // frame units
     double brightness = 0.2, tint = 0.05;             // rgb x U(1 +- brightness) x per channel U(1 +- tint)
+    double balance = 0.5;                             // share of class-balanced column centres
 
     double unit() const { return tile * grid; }  // the feature unit: one voxel in world units
     SemanticOptions without_augmentation() const {
@@ -70,6 +73,7 @@ public:
 
 private:
     std::vector<SemanticScene> scenes_;
+    std::vector<std::vector<std::vector<uint32_t>>> by_class_;  // per scene, per class present: its Gaussians
     int classes_;
     SemanticOptions options_;
 };
