@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "app/common/ptv3_decoder.h"
 #include "dataset/error.h"
 #include "dataset/semantic/gaussian_features.h"
 #include "nn/safetensors.h"
@@ -12,16 +13,7 @@
 namespace pg::app {
 
 std::string default_semantic_model_path() {
-    if (const char* env = std::getenv("PG_SEMANTIC_MODEL"); env && *env) return env;
-    namespace fs = std::filesystem;
-    const fs::path rel = fs::path("assets") / "models" / "semantic.safetensors";
-    std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (!ec)
-        for (fs::path dir = exe.parent_path(); !dir.empty() && dir != dir.root_path(); dir = dir.parent_path())
-            if (fs::exists(dir / rel)) return (dir / rel).string();
-    const fs::path source = fs::path(PG_SOURCE_DIR) / rel;
-    return fs::exists(source) ? source.string() : std::string();
+    return shipped_file("PG_SEMANTIC_MODEL", std::filesystem::path("assets") / "models" / "semantic.safetensors");
 }
 
 Ptv3ClassNetwork::Ptv3ClassNetwork(vk::Context& ctx, const std::string& model_path, const char* option)

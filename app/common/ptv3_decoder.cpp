@@ -10,17 +10,20 @@
 
 namespace pg::app {
 
-std::string default_model_path() {
-    if (const char* env = std::getenv("PG_MODEL"); env && *env) return env;
+std::string shipped_file(const char* env_var, const std::filesystem::path& relative) {
+    if (const char* env = std::getenv(env_var); env && *env) return env;
     namespace fs = std::filesystem;
-    const fs::path rel = fs::path("assets") / "models" / "interactive.safetensors";
     std::error_code ec;
     const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
     if (!ec)  // build/app/pointgauss -> the repository root two folders up
         for (fs::path dir = exe.parent_path(); !dir.empty() && dir != dir.root_path(); dir = dir.parent_path())
-            if (fs::exists(dir / rel)) return (dir / rel).string();
-    const fs::path source = fs::path(PG_SOURCE_DIR) / rel;
+            if (fs::exists(dir / relative)) return (dir / relative).string();
+    const fs::path source = fs::path(PG_SOURCE_DIR) / relative;
     return fs::exists(source) ? source.string() : std::string();
+}
+
+std::string default_model_path() {
+    return shipped_file("PG_MODEL", std::filesystem::path("assets") / "models" / "interactive.safetensors");
 }
 
 nn::Ptv3Config ptv3_config_arg(const std::string& arg, const char* option) {

@@ -2,6 +2,7 @@
 // The pipeline's Decoder backed by PTv3 (nn/ptv3): a batch's Gaussian centres and click
 // weights in, P(foreground) out, class 1 of the model being the clicked object. Lives in app/
 // because it joins engine/segment and nn, which do not depend on each other.
+#include <filesystem>
 #include <memory>
 
 #include "engine/segment/decoder.h"
@@ -13,6 +14,9 @@ namespace pg::app {
 // beside the binary's source tree (found from the executable's location, then from the source
 // path it was built from). Empty if none exists.
 std::string default_model_path();
+// $env_var if set, else `relative` (to the repository root) found from the executable's location,
+// then from the source path it was built from. Empty if none exists.
+std::string shipped_file(const char* env_var, const std::filesystem::path& relative);
 
 // A config argument: tiny / small / paper, or a model file whose config to take. InputError
 // naming `option` otherwise.

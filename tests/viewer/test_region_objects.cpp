@@ -7,6 +7,7 @@
 #include <map>
 
 #include "app/viewer/session.h"
+#include "tests/viewer/stand_in_decoder.h"
 
 using namespace pg;
 using namespace pg::viewer;
@@ -15,30 +16,8 @@ namespace {
 
 constexpr size_t kGaussians = 100;
 
-// The stand-in decoder of test_session.cpp: a positive click at (u, v) claims Gaussians
-// u .. u + 9 with probability v; a negative click at u takes u .. u + 9 back.
-Click click(double u, double p, bool positive = true) {
-    Click c;
-    c.prompt.view = "view_000";
-    c.prompt.u = u;
-    c.prompt.v = p;
-    c.prompt.positive = positive;
-    c.anchor.positive = positive;
-    return c;
-}
-
-seg::ObjectResult claims_of(const data::ObjectPrompt& object) {
-    std::map<uint32_t, float> claims;
-    for (auto& c : object.clicks)
-        for (uint32_t g = uint32_t(c.u); g < uint32_t(c.u) + 10; ++g)
-            if (c.positive) claims[g] = float(c.v);
-            else claims.erase(g);
-    seg::ObjectResult r;
-    r.id = object.id;
-    r.name = object.name;
-    r.claims.assign(claims.begin(), claims.end());
-    return r;
-}
+Click click(double u, double p, bool positive = true) { return pg::test::stand_in_click(u, p, positive); }
+seg::ObjectResult claims_of(const data::ObjectPrompt& object) { return pg::test::stand_in_claims(object); }
 
 // Runs every job; returns the region objects whose edits were segmented.
 std::vector<int> settle(Session& session, const Document& doc, const std::string& decoder = "model") {
