@@ -136,6 +136,10 @@ Outcome run_job(const BatchJob& job, const BatchPaths& paths, const Shard& shard
             if (o.contains("error")) r["error"] = o["error"];
             record["objects"].push_back(r);
         }
+        // A semantic job labels classes, not objects: the classes it found and their Gaussians.
+        for (const auto& c : report.value("classes", nlohmann::json::array()))
+            if (c.value("gaussians", 0) > 0)
+                record["classes"].push_back({{"name", c.value("name", "")}, {"gaussians", c.value("gaussians", 0)}});
         write_json(moving, {{"job", name}});
         fs::rename(tmp, paths.job(name));
         write_json(paths.done(name), record);  // last: the job counts as finished from here
@@ -163,6 +167,10 @@ void print_summary(const std::vector<BatchJob>& jobs, const BatchPaths& paths) {
             for (const auto& o : (*r)["objects"]) failed += o.contains("error");
             objects = std::to_string((*r)["objects"].size() - failed);
             if (failed) note = std::to_string(failed) + " object(s) failed";
+        }
+        if (r && r->contains("classes")) {
+            objects = "-";
+            note = "semantic: " + std::to_string((*r)["classes"].size()) + " classes";
         }
         char seconds[32] = "";
         if (r && r->contains("seconds")) std::snprintf(seconds, sizeof(seconds), "%.1f", (*r)["seconds"].get<double>());

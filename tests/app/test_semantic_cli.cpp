@@ -104,6 +104,10 @@ TEST_CASE("segment --semantic labels a campus scene with a model train wrote, an
     INFO(batch.out);
     CHECK(batch.code == 0);
     CHECK(fs::exists(dir / "batch" / "s" / "scene.ply"));
+    Run summary = run("batch " + (dir / "jobs.json").string() + " --out " + (dir / "batch").string() + " --summary");
+    INFO(summary.out);
+    CHECK(summary.out.find("| s | done |") != std::string::npos);
+    CHECK(summary.out.find("semantic: ") != std::string::npos);
 
     // Mix-ups: one line naming what is wrong, exit 1, nothing written.
     const std::string interactive = (pg::test::source_dir() / "assets/models/interactive.safetensors").string();
