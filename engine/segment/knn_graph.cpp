@@ -58,6 +58,8 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     if (!(o.cell > 0) || !(o.distance > 0) || !(o.colour >= 0) || !(o.normal >= 0) || !(o.opacity >= 0))
         throw data::InputError("graph weights", "cell and distance must be positive, colour, normal and opacity >= 0");
     domain_ = domain;
+    host_nbr_.clear();
+    host_adjacency_ = {};
     nodes_ = uint32_t(domain.size());
     k_ = o.k;
     const uint32_t n = nodes_, k = k_;
@@ -159,5 +161,31 @@ std::vector<uint32_t> KnnGraph::neighbours() const {
 }
 
 std::vector<float> KnnGraph::weights() const { return vk::download_vector<float>(ctx_, weight_, uint64_t(nodes_) * k_); }
+
+const std::vector<uint32_t>& KnnGraph::host_neighbours() const {
+    if (host_nbr_.empty() && nodes_ > 0) host_nbr_ = neighbours();
+    return host_nbr_;
+}
+
+const HostAdjacency& KnnGraph::host_adjacency() const {
+    if (!host_adjacency_.rows.empty() || nodes_ == 0) return host_adjacency_;
+    // Entry e < n k is node i's own slot e (neighbour nbr[e]); above, the slot e - n k of the
+    // node that lists i (graph_edge.glsl).
+    const auto& nbr = host_neighbours();
+    const auto weight = weights();
+    const uint64_t half = uint64_t(nodes_) * k_;
+    HostAdjacency& a = host_adjacency_;
+    a.rows = vk::download_vector<uint32_t>(ctx_, rows_, size_t(nodes_) + 1);
+    const auto entries = vk::download_vector<uint32_t>(ctx_, values_, a.rows[nodes_]);
+    a.columns.resize(entries.size());
+    a.weights.resize(entries.size());
+    for (size_t s = 0; s < entries.size(); ++s) {
+        const uint32_t e = entries[s];
+        a.columns[s] = e < half ? nbr[e] : uint32_t((e - half) / k_);
+        a.weights[s] = weight[e < half ? e : e - half];
+    }
+    a.degree = vk::download_vector<float>(ctx_, degree_, nodes_);
+    return a;
+}
 
 }  // namespace pg::seg

@@ -13,6 +13,7 @@
 
 #include "dataset/gaussian_cloud.h"
 #include "engine/render/gpu_scene.h"
+#include "engine/segment/widest_paths.h"
 #include "engine/sort/radix_sort.h"
 #include "engine/vk/buffer.h"
 #include "engine/vk/commands.h"
@@ -51,6 +52,10 @@ public:
     // Host copies, for tests and component counts: k per node, kGraphNone for an empty slot.
     std::vector<uint32_t> neighbours() const;
     std::vector<float> weights() const;
+    // The same, downloaded once per build and kept: the solves of further clicks on this graph
+    // (seeding, components, the host forest) read them without waiting on the device again.
+    const std::vector<uint32_t>& host_neighbours() const;
+    const HostAdjacency& host_adjacency() const;
 
     // Device buffers the random walker reads.
     const vk::Buffer& rows() const { return rows_; }        // n + 1 starts into entries()
@@ -66,6 +71,8 @@ private:
     std::unique_ptr<render::SceneSlab> slab_;  // a streamed scene's domain, a slab at a time
     vk::Buffer domain_buf_, pos_, colour_, normal_, keys_, values_, nbr_, dist_, spacing_, weight_, rows_, degree_;
     std::vector<uint32_t> domain_;
+    mutable std::vector<uint32_t> host_nbr_;      // empty until asked for after a build
+    mutable HostAdjacency host_adjacency_;
     uint32_t nodes_ = 0, k_ = 0;
     float cell_ = 0, median_spacing_ = 0;
     std::vector<vk::PassTiming> timings_;

@@ -35,11 +35,15 @@ bool RandomWalker::build_hierarchy(const KnnGraph& graph, const std::vector<int3
     const uint32_t n = graph.nodes();
     // The fine operator as walk_apply sees it: walk_edges' columns and weights (0 toward seeds),
     // degree + gamma on the diagonal; a seed's row is out of the system.
+    // From the graph's host copy (downloaded once per graph, not once per click).
+    const HostAdjacency& adjacency = graph.host_adjacency();
     WalkMatrix fine;
-    fine.rows = vk::download_vector<uint32_t>(ctx_, graph.rows(), size_t(n) + 1);
-    fine.columns = vk::download_vector<uint32_t>(ctx_, edge_columns_, fine.rows[n]);
-    fine.weights = vk::download_vector<float>(ctx_, edge_weights_, fine.rows[n]);
-    fine.diagonal = vk::download_vector<float>(ctx_, graph.degree_buffer(), n);
+    fine.rows = adjacency.rows;
+    fine.columns = adjacency.columns;
+    fine.weights = adjacency.weights;
+    for (size_t s = 0; s < fine.columns.size(); ++s)
+        if (seed[fine.columns[s]] != gpu::kWalkFree) fine.weights[s] = 0.0f;
+    fine.diagonal = adjacency.degree;
     for (uint32_t i = 0; i < n; ++i) {
         const float d = fine.diagonal[i] + gamma[i];
         fine.diagonal[i] = seed[i] == gpu::kWalkFree && d > 0.0f ? d : 0.0f;

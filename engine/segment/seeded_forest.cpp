@@ -5,6 +5,7 @@
 #include <string>
 
 #include "dataset/error.h"
+#include "engine/segment/widest_paths.h"
 #include "shaders/segment/graph_shared.h"
 
 namespace pg::seg {
@@ -28,6 +29,14 @@ ForestResult SeededForest::solve(const KnnGraph& graph, const std::vector<int32_
     }
     ForestResult out;
     timings_.clear();
+    out.free_nodes = size_t(std::count(seed.begin(), seed.end(), -1));
+    if (n > 0 && double(out.free_nodes) <= double(o.host_below) * n) {
+        auto paths = widest_paths(graph.host_adjacency(), seed);
+        out.label = std::move(paths.label);
+        out.width = std::move(paths.width);
+        out.converged = true;
+        return out;
+    }
     if (n > 0) {
         const uint32_t check = std::max(1u, o.check_every);
         seed_.ensure(uint64_t(n) * 4);

@@ -4,7 +4,8 @@
 // forest's labelling (watershed on the graph). Unlike the random walk it has no bias towards
 // large seed sets: one click holds its object against a whole background of seeds as long as
 // the object's inside is better connected than its border. On the GPU as rounds of a
-// relaxation (forest_step) until no node changes; a node no seed reaches stays unlabelled.
+// relaxation (forest_step) until no node changes; a node no seed reaches stays unlabelled. With
+// few free nodes (the walk settled the rest) it runs on the host instead (widest_paths.h).
 #include <cstdint>
 #include <vector>
 
@@ -16,14 +17,17 @@ namespace pg::seg {
 struct ForestOptions {
     uint32_t max_rounds = 4000;
     uint32_t check_every = 32;   // rounds between the host's looks at the change counts
+    float host_below = 0.25f;    // at most this share of the nodes free: the host's heap flood
+                                 // (widest_paths.h) instead of the rounds (0: always the rounds)
     const std::atomic<bool>* cancel = nullptr;  // set: the solve stops (Cancelled) at its next look
 };
 
 struct ForestResult {
     std::vector<int32_t> label;  // per node, -1 where no seed is reached
     std::vector<float> width;    // per node: the widest path's weakest affinity (2 at seeds, 0 unreached)
-    uint32_t rounds = 0;         // rounds until nothing changed (or max_rounds)
+    uint32_t rounds = 0;         // rounds until nothing changed (or max_rounds); 0 on the host
     bool converged = false;
+    size_t free_nodes = 0;       // nodes without a seed: what the forest had to label
 };
 
 class SeededForest {

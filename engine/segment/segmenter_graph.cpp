@@ -160,13 +160,14 @@ struct NodeLabels {
     std::vector<int32_t> label;
     std::vector<float> confidence;
     uint32_t rounds = 0;
+    size_t free_nodes = 0;
 };
 NodeLabels walk_then_forest(SeededForest& forest, const KnnGraph& graph, std::vector<int32_t> seed, const WalkLabels& w,
                             float sure, const ForestOptions& fo) {
     for (size_t i = 0; i < seed.size(); ++i)
         if (seed[i] < 0 && w.arg[i] >= 0 && w.share[i] >= sure) seed[i] = w.arg[i];
     auto f = forest.solve(graph, seed, fo);
-    NodeLabels out{std::move(f.label), std::vector<float>(seed.size(), 0.0f), f.rounds};
+    NodeLabels out{std::move(f.label), std::vector<float>(seed.size(), 0.0f), f.rounds, f.free_nodes};
     for (size_t i = 0; i < seed.size(); ++i) out.confidence[i] = w.arg[i] == out.label[i] ? w.share[i] : 0.5f;
     return out;
 }
@@ -203,7 +204,7 @@ Segmenter::CoarseSolve Segmenter::coarse_solve(const SegmentOptions& o, const st
     if (spread_clicks) {
         // Clicks seeded at one node each (no fine graph yet): their coarse neighbours too, as
         // seed_clicks does on the fine graph (a lone seed node may be weakly attached).
-        const auto cn = coarse_graph_.neighbours();
+        const auto& cn = coarse_graph_.host_neighbours();
         const uint32_t ck = coarse_graph_.k();
         std::vector<int32_t> spread = cp.seed;
         for (uint32_t c = 0; c < m; ++c)
@@ -271,9 +272,10 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     pr.seed.assign(nodes, -1);
     for (uint32_t i = 0; i < nodes; ++i)
         if (!d.in_roi[i]) pr.seed[i] = 0;
-    const auto nbr = graph_.neighbours();
+    const auto& nbr = graph_.host_neighbours();
     seed_clicks(objects, d, &nbr, graph_.cell_side(), pr);
     if (o.graph == GraphUse::Unary) network_prior(o, objects, rois, probabilities, d, pr);
+    result.stage_ms["graph seeds"] += ms_since(t0);
     if (o.solver == GraphSolver::Forest) solve_forest(o, objects, d.domain, nbr, pr, result);
     else solve_walk(rest, objects, d.domain, nbr, pr, result);
     result.stage_ms["graph solve"] += ms_since(t0);
@@ -435,7 +437,9 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
                     it != last_solution_.end() ? it->second[i] : (pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l]);
         }
     }
+    auto t0 = Clock::now();
     const auto root = component_roots(graph_, nbr);
+    result.stage_ms["graph components"] += ms_since(t0);
     if (!warm && o.coarse_stride > 1 && nodes >= 64 * o.coarse_stride) {
         // Multigrid needs no head start where seeds or priors reach (its coarse levels carry
         // the far-reaching part, and the coarse answer's roughness costs it iterations): there
@@ -462,7 +466,9 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
             }
         }
     }
+    t0 = Clock::now();
     auto solution = walker_.solve(graph_, pr, o.walk);
+    result.stage_ms["graph walk"] += ms_since(t0);
     last_solution_.clear();
     for (uint32_t l = 0; l < labels; ++l) {
         auto& column = last_solution_[ids[l]];
@@ -486,9 +492,12 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
     if (o.solver == GraphSolver::WalkForest) {
         // Where the walk is sure it stands; the forest's widest paths settle the rest, without
         // the walk's pull towards the label with the most seeds.
+        const auto t0 = Clock::now();
         const NodeLabels settled = walk_then_forest(forest_, graph_, pr.seed, w, o.walk_sure, o.forest);
+        result.stage_ms["graph forest"] += ms_since(t0);
         report.solver = GraphSolver::WalkForest;
         report.rounds = settled.rounds;
+        report.forest_free = settled.free_nodes;
         for (uint32_t i = 0; i < nodes; ++i)
             if (settled.label[i] > 0)
                 objects[size_t(settled.label[i]) - 1]->claims.push_back({domain[i], settled.confidence[i]});
@@ -516,6 +525,7 @@ void Segmenter::solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>
 
     GraphReport report = graph_report(graph_, GraphSolver::Forest, seed);
     report.rounds = forest.rounds;
+    report.forest_free = forest.free_nodes;
     report.residual = forest.converged ? 0.0 : 1.0;
     WalkProblem seeds_only;
     seeds_only.labels = labels;

@@ -292,7 +292,9 @@ TEST_CASE("segment --decoder: the graph decoders on the bundled sample") {
     CHECK(report["graph"]["nodes"].get<size_t>() > 1000);
     CHECK(report["graph"]["residual"].get<double>() <= 1e-3);
     CHECK(report["graph"]["solver"] == "walk+forest");
-    CHECK(report["graph"]["rounds"].get<uint32_t>() > 0);
+    // The walk leaves some nodes unsure; the forest labels them (flooded on the host: no rounds).
+    CHECK(report["graph"]["forest_free"].get<size_t>() > 0);
+    CHECK(report["graph"]["rounds"].get<uint32_t>() == 0);
     // One click per object on the sample: the default decoder takes each object whole.
     for (auto [name, floor] : {std::pair{"pred-graph", 0.95}, std::pair{"pred-gt", 0.97}}) {
         auto e = run("eval --gt " + sample() + "/.. --pred " + (dir / name).string() + " --split all --json " +

@@ -172,7 +172,7 @@ TEST_CASE("random walker: the GPU's conjugate gradient matches Eigen's on the sa
     CHECK_THROWS_AS(walker.solve(graph, bad), data::InputError);
 }
 
-TEST_CASE("seeded forest: the GPU's widest-path rounds give Kruskal's seeded maximum spanning forest") {
+TEST_CASE("seeded forest: the GPU's widest-path rounds and the host's flood give Kruskal's seeded maximum spanning forest") {
     auto scene = ref::random_scene(23, 2000, 0);
     auto& ctx = test::gpu();
     render::GpuScene gpu(ctx, scene.cloud);
@@ -182,24 +182,31 @@ TEST_CASE("seeded forest: the GPU's widest-path rounds give Kruskal's seeded max
     const auto rg = as_reference(graph);
     seg::SeededForest forest(ctx);
     ref::Rng rng(6);
-    for (uint32_t labels : {2u, 40u}) {
+    // 2 and 40 labels of two seeds each; then most nodes seeded, as after a walk (the host's
+    // flood by default), each solved both ways.
+    for (uint32_t labels : {2u, 40u, 1000u}) {
         std::vector<int32_t> seed(domain.size(), -1);
         for (uint32_t l = 0; l < labels; ++l)
-            for (int s = 0; s < 2; ++s) seed[rng.below(uint32_t(domain.size()))] = int32_t(l);
-        auto got = forest.solve(graph, seed);
-        auto want = ref::seeded_forest(rg, seed);
-        INFO("labels " << labels << ", rounds " << got.rounds);
-        CHECK(got.converged);
-        size_t same = 0, reached = 0;
-        for (size_t i = 0; i < domain.size(); ++i) {
-            CHECK(got.width[i] == want.width[i]);
-            CHECK((got.label[i] < 0) == (want.label[i] < 0));
-            same += got.label[i] == want.label[i];
-            reached += want.label[i] >= 0;
+            for (int s = 0; s < 2; ++s) seed[rng.below(uint32_t(domain.size()))] = int32_t(labels > 100 ? l % 3 : l);
+        const auto want = ref::seeded_forest(rg, seed);
+        for (float host_below : {0.0f, 1.0f}) {
+            seg::ForestOptions options;
+            options.host_below = host_below;
+            auto got = forest.solve(graph, seed, options);
+            INFO("labels " << labels << ", host " << host_below << ", rounds " << got.rounds);
+            CHECK(got.converged);
+            CHECK((got.rounds == 0) == (host_below > 0));
+            size_t same = 0, reached = 0;
+            for (size_t i = 0; i < domain.size(); ++i) {
+                CHECK(got.width[i] == want.width[i]);
+                CHECK((got.label[i] < 0) == (want.label[i] < 0));
+                same += got.label[i] == want.label[i];
+                reached += want.label[i] >= 0;
+            }
+            // Only a tie of two distinct edges of exactly equal weight may go either way.
+            CHECK(same >= domain.size() * 999 / 1000);
+            CHECK(reached > domain.size() / 2);
         }
-        // Only a tie of two distinct edges of exactly equal weight may go either way.
-        CHECK(same >= domain.size() * 999 / 1000);
-        CHECK(reached > domain.size() / 2);
     }
     std::vector<int32_t> bad(domain.size(), -1);
     bad[0] = -2;
