@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "dataset/atomic_file.h"
+
 namespace pg::nn {
 namespace {
 
@@ -159,20 +161,14 @@ void write_safetensors(const std::filesystem::path& path, const std::vector<Safe
     }
     std::string header = h.dump();
     while ((header.size() + 8) % 8) header += ' ';  // data starts 8-byte aligned
-    const auto tmp = path.string() + ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw FormatError(path.string(), "cannot create file");
+    // Whole or not at all (and removed if the process is interrupted): a checkpoint written
+    // while a training run is stopped must not replace the last good one with half a file.
+    data::write_atomically(path, [&](std::ostream& out) {
         uint64_t n = header.size();
         out.write(reinterpret_cast<const char*>(&n), 8);
         out.write(header.data(), std::streamsize(header.size()));
         for (const auto& e : entries) out.write(reinterpret_cast<const char*>(e.data.data()), std::streamsize(e.data.size()));
-        if (!out) {
-            std::filesystem::remove(tmp);
-            throw FormatError(path.string(), "write failed");
-        }
-    }
-    std::filesystem::rename(tmp, path);
+    });
 }
 
 }  // namespace pg::nn

@@ -7,10 +7,12 @@
 #include <CLI/CLI.hpp>
 
 #include "app/cli/commands.h"
+#include "dataset/atomic_file.h"
 #include "dataset/error.h"
 #include "engine/vk/check.h"
 
 int main(int argc, char** argv) {
+    pg::data::remove_partial_files_on_signals();
     CLI::App app{"PointGauss: segment 3D Gaussian Splatting scenes on any Vulkan device", "pointgauss"};
     app.require_subcommand(1);
     std::function<void()> run;

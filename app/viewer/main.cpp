@@ -6,8 +6,10 @@
 
 #include "app/common/memory_arg.h"
 #include "app/viewer/viewer.h"
+#include "dataset/atomic_file.h"
 
 int main(int argc, char** argv) {
+    pg::data::remove_partial_files_on_signals();
     pg::viewer::ViewerOptions o;
     CLI::App app{"PointGauss viewer: click objects in a 3DGS scene to segment them"};
     app.add_option("scene", o.scene, "Scene file (3DGS/2DGS PLY, compressed PLY, .splat, .spz)")->required();

@@ -1,6 +1,8 @@
 // write_ply: binary little-endian INRIA PLY. A cloud read from a PLY keeps its property
 // order, its comments and its extras' types, so reading and writing an INRIA file gives
 // back the same bytes.
+#include <cerrno>
+#include <cstring>
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -202,7 +204,7 @@ void write_ply(const GaussianCloud& cloud, const std::filesystem::path& path) {
                 }
             }
             os.write(block.data(), out - block.data());
-            if (!os) throw InputError(where, "write failed (disk full?)");
+            if (!os) throw InputError(where, std::string("write failed: ") + (errno ? std::strerror(errno) : "disk full?"));
         }
     });
 }

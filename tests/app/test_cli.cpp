@@ -341,3 +341,25 @@ TEST_CASE("prompts never writes a click that segment cannot lift, on every suite
         }
     CHECK(objects > 60);
 }
+
+TEST_CASE("segment on a full disk: one error naming the file, exit 1, no partial file, the input intact") {
+    // A file size limit stands in for the full disk (the write fails the same way, EFBIG for
+    // ENOSPC); the process ignores SIGXFSZ, so it reports instead of being killed.
+    auto dir = pg::test::scratch("cli-disk-full");
+    fs::remove_all(dir);
+    fs::create_directories(dir / "in");
+    fs::copy_file(fs::path(sample()) / "scene.ply", dir / "in" / "scene.ply");
+    const auto before = pg::data::read_file(dir / "in" / "scene.ply");
+    auto r = pg::test::run_command("ulimit -f 2000; " + std::string(PG_CLI) + " segment " + (dir / "in" / "scene.ply").string() +
+                                   " --cameras " + sample() + "/cameras.json --prompts " + sample() +
+                                   "/prompts.json --views 0 --out " + (dir / "out").string());
+    INFO(r.out);
+    CHECK(r.code == 1);
+    CHECK(r.out.find("error: ") != std::string::npos);
+    CHECK(r.out.find("scene.ply: write failed") != std::string::npos);
+    CHECK(r.out.find("error: ") == r.out.rfind("error: "));
+    CHECK_FALSE(fs::exists(dir / "out" / "scene.ply"));
+    for (const auto& e : fs::recursive_directory_iterator(dir / "out"))
+        CHECK(e.path().filename().string().find(".tmp") == std::string::npos);
+    CHECK(pg::data::read_file(dir / "in" / "scene.ply") == before);
+}
