@@ -40,6 +40,8 @@ int main(int argc, char** argv) {
     app.add_option("--render-scale", o.render_scale, "Picture resolution relative to the window (default: 1 on a "
                                                      "GPU, 0.5 on a CPU device)");
     app.add_option("--script", o.script, "Replay actions.json (clicks, UI actions, screenshots), then quit");
+    app.add_option("--script-log", o.script_log,
+                   "With --script: after each action settles, a JSON line of host RSS and live device memory (a soak's record)");
     app.add_option("--screenshot", o.screenshot, "Save the window as PNG once everything has settled, then quit");
     CLI11_PARSE(app, argc, argv);
     try {

@@ -4,11 +4,35 @@
 
 #include "app/viewer/viewer.h"
 #include "dataset/error.h"
+#include "engine/vk/buffer.h"
 
 namespace pg::viewer {
 
-ScriptRunner::ScriptRunner(std::vector<Action> actions, std::string final_screenshot)
-    : actions_(std::move(actions)), final_screenshot_(std::move(final_screenshot)) {}
+ScriptRunner::ScriptRunner(std::vector<Action> actions, std::string final_screenshot, const std::string& log)
+    : actions_(std::move(actions)), final_screenshot_(std::move(final_screenshot)) {
+    if (log.empty()) return;
+    log_.open(log, std::ios::trunc);
+    if (!log_) throw data::InputError(log, "cannot write the script log");
+}
+
+namespace {
+uint64_t resident_host_bytes() {
+    std::ifstream status("/proc/self/status");
+    std::string line;
+    while (std::getline(status, line))
+        if (line.rfind("VmRSS:", 0) == 0) return std::stoull(line.substr(6)) * 1024;  // kB
+    return 0;
+}
+}  // namespace
+
+void ScriptRunner::log_settled() {
+    if (!log_.is_open() || next_ == 0) return;
+    const Action& a = actions_[next_ - 1];
+    log_ << nlohmann::json{{"action", next_ - 1}, {"kind", a.kind}, {"host_rss", resident_host_bytes()},
+                           {"device_live", vk::memory_stats().live}}
+                .dump()
+         << '\n' << std::flush;
+}
 
 void ScriptRunner::step(Viewer& viewer, bool idle) {
     if (finished_) return;
@@ -16,6 +40,7 @@ void ScriptRunner::step(Viewer& viewer, bool idle) {
     if (viewer.errors() > 0) return viewer.quit();
     // Three idle frames: the picture of the last change has been drawn, not just received.
     if (idle_frames_ < 3) return;
+    log_settled();
     if (next_ < actions_.size()) {
         run(viewer, actions_[next_++]);
         idle_frames_ = 0;

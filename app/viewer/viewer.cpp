@@ -75,7 +75,7 @@ Viewer::Viewer(const ViewerOptions& options) : options_(options) {
 void Viewer::open(const ViewerOptions& options) {
     if (!options.script.empty() || !options.screenshot.empty())
         script_ = std::make_unique<ScriptRunner>(options.script.empty() ? std::vector<Action>{} : read_script(options.script),
-                                                 options.screenshot);
+                                                 options.screenshot, options.script_log);
     const auto budget = app::scene_budget(options.max_device_memory, options.half_sh);  // a bad size fails first
     window_ = std::make_unique<Window>("PointGauss - " + fs::path(options.scene).filename().string(), options.width,
                                        options.height);

@@ -27,7 +27,7 @@ namespace pg::viewer {
 class ScriptRunner;
 
 struct ViewerOptions {
-    std::string scene, cameras, model, semantic_model, decoder, up = "auto", device, script, screenshot, out, prompts;
+    std::string scene, cameras, model, semantic_model, decoder, up = "auto", device, script, script_log, screenshot, out, prompts;
     std::string lift = "surface";
     std::string max_device_memory;  // a scene past it (or past the device's largest binding) is streamed
     bool half_sh = false;
