@@ -9,6 +9,7 @@
 #include "app/cli/commands.h"
 #include "app/common/progress.h"
 #include "app/common/ptv3_decoder.h"
+#include "app/common/staged_output.h"
 #include "app/common/up_arg.h"
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
@@ -119,7 +120,8 @@ void run_segment(const SegmentArgs& args) {
     fs::path out(a.out);
     if (fs::exists(out) && !fs::is_directory(out)) throw data::InputError(a.out, "exists and is not a folder");
     for (const char* f : {"scene.ply", "report.json"}) seg::refuse_overwriting(out / f, {a.scene, a.cameras, a.prompts});
-    fs::create_directories(out);
+    StagedOutput staged(out);  // every output appears at the end, or none
+    const fs::path& stage = staged.dir();
 
     vk::ContextOptions co;
     co.device = a.device.device;
@@ -175,11 +177,11 @@ void run_segment(const SegmentArgs& args) {
 
     // 3D outputs: the scene with the labels, one standard 3DGS PLY per object.
     auto t0 = std::chrono::steady_clock::now();
-    seg::write_labelled_scene(cloud, result.labels, out / "scene.ply");
+    seg::write_labelled_scene(cloud, result.labels, stage / "scene.ply");
     std::vector<seg::ExportObject> objects;
     for (auto& obj : result.objects)
         if (obj.error.empty()) objects.push_back({obj.id, obj.name});
-    seg::write_object_plys(cloud, result.labels, objects, out / "objects");
+    seg::write_object_plys(cloud, result.labels, objects, stage / "objects");
     result.stage_ms["write 3D"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
     // 2D outputs: label rasterization and refinement on the GPU for every chosen view.
@@ -192,14 +194,15 @@ void run_segment(const SegmentArgs& args) {
             progress.step(view);
             return true;
         };
-        for (auto& [name, ms] : seg::write_view_masks(ctx, scene, result.labels, cameras, views, out, vo))
+        for (auto& [name, ms] : seg::write_view_masks(ctx, scene, result.labels, cameras, views, stage, vo))
             result.stage_ms[name] += ms;
         progress.finish();
         report["views"] = views.size();
     }
     for (auto& [name, ms] : result.stage_ms) report["stage_ms"][name] = ms;
     report["total_ms"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - total_start).count();
-    data::write_atomically(out / "report.json", [&](std::ostream& os) { os << report.dump(2) << "\n"; });
+    data::write_atomically(stage / "report.json", [&](std::ostream& os) { os << report.dump(2) << "\n"; });
+    staged.commit();
     std::printf("segmented %zu object(s) (", result.objects.size() - failed);
     bool first = true;
     for (auto& obj : result.objects)

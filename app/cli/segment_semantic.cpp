@@ -10,6 +10,7 @@
 #include "app/cli/commands.h"
 #include "app/common/progress.h"
 #include "app/common/ptv3_classifier.h"
+#include "app/common/staged_output.h"
 #include "app/common/up_arg.h"
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
@@ -94,7 +95,8 @@ void run_segment_semantic(const SemanticSegmentArgs& a) {
     auto class_name = [&](int c) { return c < int(names.size()) ? names[size_t(c)] : "class_" + std::to_string(c); };
     std::map<std::string, double> stage_ms = labels.stage_ms;
 
-    fs::create_directories(out);
+    StagedOutput staged(out);  // every output appears at the end, or none
+    const fs::path& stage = staged.dir();
     nlohmann::json report;
     report["scene"] = a.scene;
     report["device"] = ctx.info().name;
@@ -115,8 +117,8 @@ void run_segment_semantic(const SemanticSegmentArgs& a) {
 
     // 3D: the scene with its classes, one standard 3DGS PLY per class present.
     auto t0 = std::chrono::steady_clock::now();
-    seg::write_labelled_scene(cloud, labels.classes, out / "scene.ply", "class");
-    seg::write_object_plys(cloud, labels.classes, present, out / "classes");
+    seg::write_labelled_scene(cloud, labels.classes, stage / "scene.ply", "class");
+    seg::write_object_plys(cloud, labels.classes, present, stage / "classes");
     stage_ms["write 3D"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
     // 2D: class masks (class ids; class 0 is also "nothing labelled") and tinted overlays with a legend.
@@ -134,7 +136,7 @@ void run_segment_semantic(const SemanticSegmentArgs& a) {
             views_progress.step(view);
             return true;
         };
-        for (auto& [name, ms] : seg::write_view_masks(ctx, scene, labels.classes, cameras, views, out, vo))
+        for (auto& [name, ms] : seg::write_view_masks(ctx, scene, labels.classes, cameras, views, stage, vo))
             stage_ms[name] += ms;
         views_progress.finish();
         report["views"] = views.size();
@@ -142,7 +144,8 @@ void run_segment_semantic(const SemanticSegmentArgs& a) {
     for (auto& [name, ms] : stage_ms) report["stage_ms"][name] = ms;
     report["total_ms"] =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - total_start).count();
-    data::write_atomically(out / "report.json", [&](std::ostream& os) { os << report.dump(2) << "\n"; });
+    data::write_atomically(stage / "report.json", [&](std::ostream& os) { os << report.dump(2) << "\n"; });
+    staged.commit();
 
     std::printf("labelled %zu Gaussians by class (", cloud.size());
     for (size_t i = 0; i < present.size(); ++i)

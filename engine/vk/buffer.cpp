@@ -98,7 +98,7 @@ void Buffer::ensure(VkDeviceSize bytes) {
     VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     mai.allocationSize = req.size;
     mai.memoryTypeIndex = type;
-    VkResult r = vkAllocateMemory(dev, &mai, nullptr, &memory_);
+    VkResult r = ctx_->allocation_fault() ? VK_ERROR_OUT_OF_DEVICE_MEMORY : vkAllocateMemory(dev, &mai, nullptr, &memory_);
     if (r != VK_SUCCESS) {
         vkDestroyBuffer(dev, buffer_, nullptr);
         buffer_ = VK_NULL_HANDLE;

@@ -71,6 +71,8 @@ uint64_t Context::validation_message_count() { return g_validation_messages.load
 Context::Context(const ContextOptions& options) : options_(options) {
     bool validation = options.validation || env_flag("PG_VALIDATION");
     options_.discrete_memory = options.discrete_memory || env_flag("PG_DISCRETE_MEMORY");
+    if (const char* env = std::getenv("PG_FAULT_DEVICE_ALLOCATIONS"); env && options_.fail_allocations_after < 0)
+        options_.fail_allocations_after = std::strtoll(env, nullptr, 10);
     create_instance(validation);
     std::string wanted = options.device;
     if (wanted.empty())
@@ -337,7 +339,7 @@ const char* result_name(VkResult r) {
         case VK_NOT_READY: return "VK_NOT_READY";
         case VK_TIMEOUT: return "VK_TIMEOUT";
         case VK_ERROR_OUT_OF_HOST_MEMORY: return "VK_ERROR_OUT_OF_HOST_MEMORY";
-        case VK_ERROR_OUT_OF_DEVICE_MEMORY: return "VK_ERROR_OUT_OF_DEVICE_MEMORY (the scene does not fit in device memory)";
+        case VK_ERROR_OUT_OF_DEVICE_MEMORY: return "VK_ERROR_OUT_OF_DEVICE_MEMORY (device memory is exhausted: --max-device-memory streams the scene in slabs, --half-sh halves its colours)";
         case VK_ERROR_INITIALIZATION_FAILED: return "VK_ERROR_INITIALIZATION_FAILED";
         case VK_ERROR_DEVICE_LOST: return "VK_ERROR_DEVICE_LOST";
         case VK_ERROR_MEMORY_MAP_FAILED: return "VK_ERROR_MEMORY_MAP_FAILED";

@@ -25,6 +25,9 @@ struct ContextOptions {
     // buffers are never mapped, every transfer goes through staging copies, so lavapipe runs
     // the code paths a real GPU takes.
     bool discrete_memory = false;
+    // Fault injection for tests (also PG_FAULT_DEVICE_ALLOCATIONS=N): the allocations after the
+    // first N fail as VK_ERROR_OUT_OF_DEVICE_MEMORY would. -1: none fail.
+    int64_t fail_allocations_after = -1;
     // For a window (the viewer): extra instance extensions (GLFW's), and a test of whether a
     // queue family can present; the device then also needs VK_KHR_swapchain.
     std::vector<std::string> instance_extensions;
@@ -88,6 +91,11 @@ public:
         attachments_.erase(key);
     }
 
+    // True when this device memory allocation is to fail (ContextOptions::fail_allocations_after).
+    bool allocation_fault() {
+        return options_.fail_allocations_after >= 0 && allocations_.fetch_add(1) >= options_.fail_allocations_after;
+    }
+
     // Validation messages seen so far (warnings and errors); tests fail when non-zero.
     static uint64_t validation_message_count();
 
@@ -104,6 +112,7 @@ private:
     int present_family(VkPhysicalDevice pd) const;
 
     std::mutex attachments_mutex_, queue_mutex_;
+    std::atomic<int64_t> allocations_{0};
     std::map<std::string, std::shared_ptr<void>> attachments_;
     VkInstance instance_ = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;

@@ -363,3 +363,31 @@ TEST_CASE("segment on a full disk: one error naming the file, exit 1, no partial
         CHECK(e.path().filename().string().find(".tmp") == std::string::npos);
     CHECK(pg::data::read_file(dir / "in" / "scene.ply") == before);
 }
+
+TEST_CASE("segment with the device out of memory at any point: one error, exit 1, the output folder as it was") {
+    // PG_FAULT_DEVICE_ALLOCATIONS=N fails every device allocation after the first N, as a full
+    // device would: at the scene's upload, the graph, the walk, the masks' rasterization.
+    auto dir = pg::test::scratch("cli-device-oom");
+    fs::remove_all(dir);
+    fs::create_directories(dir / "out");
+    pg::data::write_atomically(dir / "out" / "notes.txt", [](std::ostream& os) { os << "the user's own file"; });
+    const std::string args = " segment " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json --prompts " +
+                             sample() + "/prompts.json --views 0,1 --out " + (dir / "out").string();
+    for (int n : {0, 7, 40, 200}) {
+        auto r = pg::test::run_command("PG_FAULT_DEVICE_ALLOCATIONS=" + std::to_string(n) + " " + std::string(PG_CLI) + args);
+        INFO("after " << n << " allocations: " << r.out);
+        CHECK(r.code == 1);
+        CHECK(r.out.find("VK_ERROR_OUT_OF_DEVICE_MEMORY") != std::string::npos);
+        CHECK(r.out.find("error: ") == r.out.rfind("error: "));
+        std::vector<std::string> left;
+        for (const auto& e : fs::directory_iterator(dir / "out")) left.push_back(e.path().filename().string());
+        CHECK(left == std::vector<std::string>{"notes.txt"});
+    }
+    // Without the fault the same command writes everything beside the user's file.
+    auto ok = run(args.substr(1));
+    INFO(ok.out);
+    REQUIRE(ok.code == 0);
+    for (const char* f : {"scene.ply", "report.json", "masks/view_000.png", "masks/view_001.png", "notes.txt"})
+        CHECK(fs::exists(dir / "out" / f));
+    CHECK(pg::data::read_text_file(dir / "out" / "notes.txt") == "the user's own file");
+}
