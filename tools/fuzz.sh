@@ -20,7 +20,7 @@ cmake --build build-fuzz --target pg_fuzz_all -j"$(nproc)"
 
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene_ply fuzz_scene_splat fuzz_scene_spz fuzz_cameras_json fuzz_transforms_json
-                                   fuzz_colmap_bin fuzz_colmap_txt fuzz_prompts fuzz_model fuzz_viewer_script)
+                                   fuzz_colmap_bin fuzz_colmap_txt fuzz_prompts fuzz_model fuzz_viewer_script fuzz_batch_jobs)
 mal=tests/fixtures/malformed
 seed() {  # target -> seed files
   case $1 in
@@ -32,6 +32,7 @@ seed() {  # target -> seed files
     fuzz_prompts) echo assets/sample/desk_000/prompts.json; find assets/real -name '*prompts*.json' ;;
     fuzz_model) find tests/fixtures -name '*.safetensors' -size -256k ;;
     fuzz_viewer_script) find tests app -name '*.json' -path '*script*' 2>/dev/null || true ;;
+    fuzz_batch_jobs) echo assets/sample/jobs.json ;;
   esac
 }
 pids=() names=()
