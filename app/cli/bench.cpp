@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
+#include "app/common/host_memory.h"
 #include "app/common/progress.h"
 #include "dataset/error.h"
 #include "dataset/formats/camera_io.h"

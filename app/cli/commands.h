@@ -51,9 +51,6 @@ void register_clicks(CLI::App& app, std::function<void()>& run);
 void register_batch(CLI::App& app, std::function<void()>& run);
 
 // The median (mean of the middle two for an even count); 0 for none. Benchmarks report medians.
-// The process's peak resident memory (VmHWM), 0 where /proc is absent.
-uint64_t peak_host_bytes();
-
 inline double median(std::vector<double> v) {
     if (v.empty()) return 0;
     std::sort(v.begin(), v.end());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "app/common/host_memory.h"
 #include "app/viewer/viewer.h"
 #include "dataset/error.h"
 #include "engine/vk/buffer.h"
@@ -15,20 +16,11 @@ ScriptRunner::ScriptRunner(std::vector<Action> actions, std::string final_screen
     if (!log_) throw data::InputError(log, "cannot write the script log");
 }
 
-namespace {
-uint64_t resident_host_bytes() {
-    std::ifstream status("/proc/self/status");
-    std::string line;
-    while (std::getline(status, line))
-        if (line.rfind("VmRSS:", 0) == 0) return std::stoull(line.substr(6)) * 1024;  // kB
-    return 0;
-}
-}  // namespace
 
 void ScriptRunner::log_settled() {
     if (!log_.is_open() || next_ == 0) return;
     const Action& a = actions_[next_ - 1];
-    log_ << nlohmann::json{{"action", next_ - 1}, {"kind", a.kind}, {"host_rss", resident_host_bytes()},
+    log_ << nlohmann::json{{"action", next_ - 1}, {"kind", a.kind}, {"host_rss", app::resident_host_bytes()},
                            {"device_live", vk::memory_stats().live}}
                 .dump()
          << '\n' << std::flush;
