@@ -10,6 +10,7 @@
 
 #include "app/cli/commands.h"
 #include "app/common/progress.h"
+#include "app/common/staged_output.h"
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
 #include "dataset/formats/camera_io.h"
@@ -76,10 +77,9 @@ void run_render(const RenderArgs& a) {
     auto cameras = data::load_cameras(a.cameras);
     auto views = select_views(a.views, cameras);
 
-    fs::path out(a.out);
-    std::error_code ec;
-    fs::create_directories(out, ec);
-    if (!fs::is_directory(out)) throw data::InputError(a.out, "cannot create the output folder");
+    if (fs::exists(a.out) && !fs::is_directory(a.out)) throw data::InputError(a.out, "exists and is not a folder");
+    StagedOutput staged(a.out);  // every picture appears at the end, or none
+    const fs::path& out = staged.dir();
 
     vk::ContextOptions co;
     co.device = a.device.device;
@@ -143,6 +143,7 @@ void run_render(const RenderArgs& a) {
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     report["seconds"] = seconds;
     data::write_atomically(out / "render.json", [&](std::ostream& os) { os << report.dump(2) << "\n"; });
+    staged.commit();
     std::printf("rendered %zu view(s) of %zu Gaussians to %s in %.2f s\n", views.size(), cloud.size(), a.out.c_str(),
                 seconds);
 }

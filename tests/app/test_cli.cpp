@@ -383,6 +383,16 @@ TEST_CASE("segment with the device out of memory at any point: one error, exit 1
         for (const auto& e : fs::directory_iterator(dir / "out")) left.push_back(e.path().filename().string());
         CHECK(left == std::vector<std::string>{"notes.txt"});
     }
+    // render likewise: no picture unless all of them.
+    auto rr = pg::test::run_command("PG_FAULT_DEVICE_ALLOCATIONS=20 " + std::string(PG_CLI) + " render " + sample() +
+                                    "/scene.ply --cameras " + sample() + "/cameras.json --views 0,1 --out " +
+                                    (dir / "out").string());
+    INFO(rr.out);
+    CHECK(rr.code == 1);
+    CHECK(rr.out.find("VK_ERROR_OUT_OF_DEVICE_MEMORY") != std::string::npos);
+    std::vector<std::string> after_render;
+    for (const auto& e : fs::directory_iterator(dir / "out")) after_render.push_back(e.path().filename().string());
+    CHECK(after_render == std::vector<std::string>{"notes.txt"});
     // Without the fault the same command writes everything beside the user's file.
     auto ok = run(args.substr(1));
     INFO(ok.out);
