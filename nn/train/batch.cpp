@@ -9,11 +9,4 @@ void Batch::add(const std::vector<float>& coord, const std::vector<float>& feat,
     input.offsets.push_back(int64_t(input.size()));
 }
 
-Ptv3Input sample_input(const data::train::Sample& s) {
-    Ptv3Input in;
-    in.coord = s.coord;
-    in.feat = s.feat;
-    return in;
-}
-
 }  // namespace pg::nn::train

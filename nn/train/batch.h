@@ -18,7 +18,12 @@ struct Batch {
     void add(const data::train::Sample& sample) { add(sample.coord, sample.feat, sample.labels); }
 };
 
-// One sample as a one-cloud input (no offsets).
-Ptv3Input sample_input(const data::train::Sample& sample);
+// One sample (interactive or semantic: anything with coord and feat) as a one-cloud input (no offsets).
+template <class Sample> Ptv3Input sample_input(const Sample& sample) {
+    Ptv3Input in;
+    in.coord = sample.coord;
+    in.feat = sample.feat;
+    return in;
+}
 
 }  // namespace pg::nn::train

@@ -1,17 +1,11 @@
 #include <algorithm>
 
+#include "nn/train/batch.h"
 #include "nn/train/training_task.h"
 
 namespace pg::nn::train {
 
 namespace {
-
-Ptv3Input semantic_input(const data::train::SemanticSample& s) {
-    Ptv3Input in;
-    in.coord = s.coord;
-    in.feat = s.feat;
-    return in;
-}
 
 // A tile of a few Gaussians (a far floater's, the sky's) pools to a single voxel, which a
 // training-mode BatchNorm cannot normalise; such tiles are redrawn (inference, with running
@@ -58,7 +52,7 @@ Validation SemanticTask::validate(Pool& pool, const Ptv3Weights& weights) const 
     std::vector<uint64_t> inter(size_t(k), 0), uni(size_t(k), 0), gt(size_t(k), 0);
     uint64_t right = 0, total = 0;
     for (const auto& s : val_samples_) {
-        const auto out = model.forward(semantic_input(s));
+        const auto out = model.forward(sample_input(s));
         for (size_t i = 0; i < s.size(); ++i) {
             const float* row = &out.logits[i * size_t(k)];
             const int p = int(std::max_element(row, row + k) - row), g = s.labels[i];
