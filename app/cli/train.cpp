@@ -144,10 +144,10 @@ void run_train(const TrainArgs& a) {
             config.input_frame = "roi";
         }
     }
-    if (semantic != config.semantic())
+    const bool fits = semantic ? config.semantic()
+                               : !config.semantic() && config.input_frame == "roi" && config.in_channels == 2 && config.num_classes == 2;
+    if (!fits)
         throw data::InputError("--resume", semantic ? "is not a semantic model checkpoint" : "is not an interactive model checkpoint");
-    if (!semantic && (config.input_frame != "roi" || config.in_channels != 2 || config.num_classes != 2))
-        throw data::InputError("--resume", "is not an interactive model checkpoint");
 
     std::unique_ptr<data::train::SampleDrawer> drawer, val_drawer;
     std::unique_ptr<data::train::SemanticDrawer> sem_drawer, sem_val;
