@@ -4,40 +4,25 @@
 #include <cmath>
 
 #include "dataset/error.h"
-#include "dataset/formats/camera_io.h"
 #include "dataset/formats/scene_io.h"
 #include "dataset/semantic/gaussian_features.h"
 #include "dataset/semantic/scene_tiles.h"
-#include "dataset/up_axis.h"
+#include "dataset/train/train_scene.h"
 
 namespace pg::data::train {
 
 namespace fs = std::filesystem;
 
 SemanticScene load_semantic_scene(const fs::path& path, const SemanticOptions& options) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) throw InputError(path.string(), "no such file or folder");
-    const bool folder = fs::is_directory(path, ec);
-    const fs::path ply = folder ? path / "scene.ply" : path;
-    if (folder && !fs::is_regular_file(ply, ec)) throw InputError(path.string(), "not a scene folder: it holds no scene.ply");
-
+    const SceneFiles files = read_scene_files(path);
     SemanticScene s;
-    s.name = folder ? fs::absolute(path).lexically_normal().filename().string() : path.stem().string();
-    const GaussianCloud cloud = load_scene(ply);
+    s.name = files.name;
+    const GaussianCloud cloud = load_scene(files.ply);
     auto classes = cloud.int_property("class");
-    if (!classes) throw InputError(ply.string(), "has no integer \"class\" property (per-Gaussian classes)");
+    if (!classes) throw InputError(files.ply.string(), "has no integer \"class\" property (per-Gaussian classes)");
     s.classes = std::move(*classes);
     s.positions = cloud.mean;
-    s.up = up_from_ground_plane(cloud);
-    if (folder)
-        for (const char* f : {"cameras.json", "transforms.json", "sparse"})
-            if (fs::exists(path / f, ec)) {
-                try {
-                    s.up = up_from_cameras(load_cameras(path));
-                } catch (const InputError&) {  // cameras all around: keep the ground plane's up
-                }
-                break;
-            }
+    s.up = scene_up(files.cameras, cloud);
     s.features = semantic::gaussian_features(cloud, options.features, s.up, options.unit());
     return s;
 }

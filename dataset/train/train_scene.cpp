@@ -25,42 +25,47 @@ bool has_camera_files(const fs::path& dir) {
 
 }  // namespace
 
-TrainScene load_train_scene(const fs::path& path, std::optional<glm::dvec3> up) {
+SceneFiles read_scene_files(const fs::path& path) {
     std::error_code ec;
     if (!fs::exists(path, ec)) throw InputError(path.string(), "no such file or folder");
     const bool folder = fs::is_directory(path, ec);
-    const fs::path ply = folder ? path / "scene.ply" : path;
-    if (folder && !fs::is_regular_file(ply, ec))
+    SceneFiles f;
+    f.ply = folder ? path / "scene.ply" : path;
+    if (folder && !fs::is_regular_file(f.ply, ec))
         throw InputError(path.string(), "not a scene folder: it holds no scene.ply");
+    f.name = folder ? fs::absolute(path).lexically_normal().filename().string() : path.stem().string();
+    if (f.name.empty()) f.name = fs::absolute(path).lexically_normal().parent_path().filename().string();
+    if (folder && has_camera_files(path)) f.cameras = load_cameras(path);
+    return f;
+}
 
+glm::dvec3 scene_up(const std::vector<Camera>& cameras, const GaussianCloud& cloud) {
+    if (cameras.empty()) return up_from_ground_plane(cloud);
+    try {
+        return up_from_cameras(cameras);
+    } catch (const InputError&) {  // cameras all around (no common up): fall back to the ground
+        return up_from_ground_plane(cloud);
+    }
+}
+
+TrainScene load_train_scene(const fs::path& path, std::optional<glm::dvec3> up) {
+    const SceneFiles files = read_scene_files(path);
     TrainScene s;
-    s.source = ply;
-    s.name = folder ? fs::absolute(path).lexically_normal().filename().string() : path.stem().string();
-    if (s.name.empty()) s.name = fs::absolute(path).lexically_normal().parent_path().filename().string();
-
-    const GaussianCloud cloud = load_scene(ply);  // names the file on any read error
+    s.source = files.ply;
+    s.name = files.name;
+    const GaussianCloud cloud = load_scene(files.ply);  // names the file on any read error
     auto instance = cloud.int_property("instance");
-    if (!instance) throw InputError(ply.string(), "has no integer \"instance\" property (per-Gaussian object ids)");
+    if (!instance) throw InputError(files.ply.string(), "has no integer \"instance\" property (per-Gaussian object ids)");
     if (std::none_of(instance->begin(), instance->end(), [](int32_t id) { return id > 0; }))
-        throw InputError(ply.string(), "labels no object: every \"instance\" id is 0 (background) or negative");
+        throw InputError(files.ply.string(), "labels no object: every \"instance\" id is 0 (background) or negative");
     s.instance = std::move(*instance);
     s.positions = cloud.mean;
-
-    std::vector<Camera> cameras;
-    if (folder && has_camera_files(path)) cameras = load_cameras(path);
-    for (const Camera& c : cameras) s.camera_positions.push_back(c.position());
-
+    for (const Camera& c : files.cameras) s.camera_positions.push_back(c.position());
     if (up) {
         if (!(glm::length(*up) > 0)) throw std::invalid_argument("load_train_scene: up must be non-zero");
         s.up = glm::normalize(*up);
-    } else if (s.has_cameras()) {
-        try {
-            s.up = up_from_cameras(cameras);
-        } catch (const InputError&) {  // cameras all around (no common up): fall back to the ground
-            s.up = up_from_ground_plane(cloud);
-        }
     } else {
-        s.up = up_from_ground_plane(cloud);
+        s.up = scene_up(files.cameras, cloud);
     }
     return s;
 }

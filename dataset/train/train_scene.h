@@ -10,6 +10,9 @@
 
 #include <glm/glm.hpp>
 
+#include "dataset/camera.h"
+#include "dataset/gaussian_cloud.h"
+
 namespace pg::data::train {
 
 struct TrainScene {
@@ -30,6 +33,18 @@ struct TrainScene {
 // cameras, or cameras too disagreeing to say) a ground-plane fit. Throws InputError naming
 // the path and the reason.
 TrainScene load_train_scene(const std::filesystem::path& dir_or_ply, std::optional<glm::dvec3> up = std::nullopt);
+
+// What the training tasks share when they read a scene: a scene folder's scene.ply (or the PLY
+// itself), its name (the folder's, or the PLY's stem), the folder's cameras (none for a bare PLY
+// or a folder without camera files), and the up rule: the cameras' mean up, else (no cameras, or
+// cameras all around) a ground-plane fit. Throws InputError naming the path.
+struct SceneFiles {
+    std::filesystem::path ply;
+    std::string name;
+    std::vector<Camera> cameras;
+};
+SceneFiles read_scene_files(const std::filesystem::path& dir_or_ply);
+glm::dvec3 scene_up(const std::vector<Camera>& cameras, const GaussianCloud& cloud);
 
 // Expands each path: a suite folder (suite.json) into its scenes of `split` ("train",
 // "test" or "all"), a scene folder (scene.ply) or a PLY file into itself. Order is kept
