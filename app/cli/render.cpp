@@ -77,7 +77,6 @@ void run_render(const RenderArgs& a) {
     auto cameras = data::load_cameras(a.cameras);
     auto views = select_views(a.views, cameras);
 
-    if (fs::exists(a.out) && !fs::is_directory(a.out)) throw data::InputError(a.out, "exists and is not a folder");
     StagedOutput staged(a.out);  // every picture appears at the end, or none
     const fs::path& out = staged.dir();
 

@@ -118,7 +118,6 @@ void run_segment(const SegmentArgs& args) {
                                             "' for the ground-truth decoder");
 
     fs::path out(a.out);
-    if (fs::exists(out) && !fs::is_directory(out)) throw data::InputError(a.out, "exists and is not a folder");
     for (const char* f : {"scene.ply", "report.json"}) seg::refuse_overwriting(out / f, {a.scene, a.cameras, a.prompts});
     StagedOutput staged(out);  // every output appears at the end, or none
     const fs::path& stage = staged.dir();

@@ -59,7 +59,6 @@ void run_segment_semantic(const SemanticSegmentArgs& a) {
     if (a.views != "none") views = select_views(a.views, cameras);
 
     const fs::path out(a.out);
-    if (fs::exists(out) && !fs::is_directory(out)) throw data::InputError(a.out, "exists and is not a folder");
     for (const char* f : {"scene.ply", "report.json"}) seg::refuse_overwriting(out / f, {a.scene, a.cameras, model});
 
     vk::ContextOptions co;

@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <csignal>
+#include <cstdlib>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -32,6 +33,7 @@ void remove_stale(const fs::path& out) {
 
 StagedOutput::StagedOutput(const fs::path& out) : out_(out) {
     std::error_code ec;
+    if (fs::exists(out_, ec) && !fs::is_directory(out_, ec)) throw data::InputError(out_.string(), "exists and is not a folder");
     fs::create_directories(out_, ec);
     if (ec) throw data::InputError(out_.string(), "cannot create the output folder: " + ec.message());
     remove_stale(out_);

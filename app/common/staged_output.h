@@ -10,7 +10,8 @@ namespace pg::app {
 
 class StagedOutput {
 public:
-    explicit StagedOutput(const std::filesystem::path& out);  // creates OUT and the staging folder
+    // Creates OUT and the staging folder; InputError if OUT is a file or cannot be written.
+    explicit StagedOutput(const std::filesystem::path& out);
     ~StagedOutput();
     StagedOutput(const StagedOutput&) = delete;
     StagedOutput& operator=(const StagedOutput&) = delete;

@@ -33,9 +33,9 @@ bool RandomWalker::build_hierarchy(const KnnGraph& graph, const std::vector<int3
                                    uint32_t width, const WalkOptions& o, WalkResult& out) {
     const auto t0 = std::chrono::steady_clock::now();
     const uint32_t n = graph.nodes();
-    // The fine operator as walk_apply sees it: walk_edges' columns and weights (0 toward seeds),
-    // degree + gamma on the diagonal; a seed's row is out of the system.
-    // From the graph's host copy (downloaded once per graph, not once per click).
+    // The fine operator as walk_apply sees it, from the graph's host copy (downloaded once per
+    // graph, not once per click): walk_edges' columns and weights (0 toward seeds), degree +
+    // gamma on the diagonal; a seed's row is out of the system.
     const HostAdjacency& adjacency = graph.host_adjacency();
     WalkMatrix fine;
     fine.rows = adjacency.rows;

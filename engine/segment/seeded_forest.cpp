@@ -19,14 +19,8 @@ ForestResult SeededForest::solve(const KnnGraph& graph, const std::vector<int32_
     if (seed.size() != n)
         throw data::InputError("seeded forest seeds", "has " + std::to_string(seed.size()) + " values, expected " +
                                                           std::to_string(n));
-    // (width bits, node past the weakest edge) per node: a seed is (kForestSeedValue, itself).
-    uint32_t seed_bits;
-    std::memcpy(&seed_bits, &gpu::kForestSeedValue, 4);
-    std::vector<glm::uvec2> state(n, glm::uvec2(0));
-    for (uint32_t i = 0; i < n; ++i) {
-        if (seed[i] < -1) throw data::InputError("seeded forest seeds", "hold a label out of range");
-        if (seed[i] >= 0) state[i] = {seed_bits, i};
-    }
+    if (std::any_of(seed.begin(), seed.end(), [](int32_t l) { return l < -1; }))
+        throw data::InputError("seeded forest seeds", "hold a label out of range");
     ForestResult out;
     timings_.clear();
     out.free_nodes = size_t(std::count(seed.begin(), seed.end(), -1));
@@ -37,6 +31,12 @@ ForestResult SeededForest::solve(const KnnGraph& graph, const std::vector<int32_
         out.converged = true;
         return out;
     }
+    // (width bits, node past the weakest edge) per node: a seed is (kForestSeedValue, itself).
+    uint32_t seed_bits;
+    std::memcpy(&seed_bits, &gpu::kForestSeedValue, 4);
+    std::vector<glm::uvec2> state(n, glm::uvec2(0));
+    for (uint32_t i = 0; i < n; ++i)
+        if (seed[i] >= 0) state[i] = {seed_bits, i};
     if (n > 0) {
         const uint32_t check = std::max(1u, o.check_every);
         seed_.ensure(uint64_t(n) * 4);
