@@ -30,6 +30,10 @@ gpu::FrameParams frame_params(const data::Camera& cam, const RenderSettings& s, 
     f.scene = glm::uvec4(count, sh_words, uint32_t(std::clamp(std::min(sh_degree, s.max_sh_degree), 0, 3)),
                          s.antialiased ? 1u : 0u);
     f.capacity = glm::uvec4(capacity, group_limit, palette_size, 0);
+    const glm::ivec4& w = s.window;
+    f.window = glm::uvec4(0, 0, cam.width, cam.height);
+    if (w.z > w.x && w.w > w.y)
+        f.window = glm::uvec4(glm::clamp(glm::ivec4(w), glm::ivec4(0), glm::ivec4(cam.width, cam.height, cam.width, cam.height)));
     return f;
 }
 

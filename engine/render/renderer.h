@@ -26,9 +26,9 @@ struct RenderSettings {
     bool antialiased = false;      // Mip-Splatting opacity compensation
     int max_sh_degree = 3;
     float near = 0.2f;
-    // Pixels x0, y0 (inclusive) to x1, y1 (exclusive) that a streamed scene must draw: it culls
-    // everything that cannot reach them, and other pixels may stay blank. Empty (x1 <= x0):
-    // the whole image. Resident scenes always draw the whole image.
+    // Pixels x0, y0 (inclusive) to x1, y1 (exclusive) the frame must draw: everything that cannot
+    // reach them is culled (a streamed scene's slabs too), and other pixels may hold anything.
+    // Empty (x1 <= x0): the whole image. A click's lift draws its pixel alone.
     glm::ivec4 window{0};
 };
 

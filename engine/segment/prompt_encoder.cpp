@@ -28,8 +28,9 @@ Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, con
                                          " image of view " + camera.name);
     render::RenderSettings s = settings;
     s.width = s.height = 0;
-    // A streamed scene draws only what reaches the pixel: one slab, whatever the scene's size.
-    if (scene.streamed()) s.window = glm::ivec4(px, py, px + 1, py + 1);
+    // Only what reaches the pixel is drawn: a fraction of a frame's tile keys, and a streamed
+    // scene's one slab, whatever the scene's size.
+    s.window = glm::ivec4(px, py, px + 1, py + 1);
     if (!rendered || scene.streamed()) renderer.render(scene, camera, s);
     const render::PixelPick pick = renderer.pick(px, py);
     if (!(pick.opacity >= kMinLiftCoverage))

@@ -25,8 +25,8 @@ namespace pg::seg {
 // wall, a blurry edge, a thin part — takes tau x its final opacity under the tau rule: the
 // same fraction of what the ray meets.
 // Throws InputError naming `what` when the pixel is off the image or (nearly) empty.
-// Renders the view at the camera's own size unless `rendered` says the renderer's last frame is
-// already this view with these settings.
+// Renders the pixel's window of the view at the camera's own size unless `rendered` says the
+// renderer's last frame already holds this pixel of this view with these settings.
 Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, const data::Camera& camera, double u,
                   double v, bool positive, const render::RenderSettings& settings, LiftRule rule,
                   const std::string& what, bool rendered = false);

@@ -202,7 +202,7 @@ private:
     std::vector<uint32_t> graph_domain_;  // the domain graph_ was built over, and with which options
     GraphOptions graph_built_with_;
     std::map<int, std::vector<float>> last_solution_;  // per label id (0: background), for warm starts
-    std::string rendered_view_;  // view and settings renderer_ holds: clicks in one view render it once
+    std::string rendered_view_;  // view, pixel and settings renderer_ last drew: a repeated click renders nothing
 };
 
 }  // namespace pg::seg

@@ -86,13 +86,14 @@ void main() {
     // Pixels whose centres (k + 0.5) can lie inside, then their tiles.
     vec2 lo = ceil(mean - half_size - 0.5);
     vec2 hi = floor(mean + half_size - 0.5);
-    vec2 size = vec2(frame.size.xy);
-    if (hi.x < 0.0 || hi.y < 0.0 || lo.x > size.x - 1.0 || lo.y > size.y - 1.0 || lo.x > hi.x || lo.y > hi.y) {
+    // Only the window's pixels (the whole image, or a click's pixel) count.
+    vec2 wlo = vec2(frame.window.xy), whi = vec2(frame.window.zw) - 1.0;
+    if (hi.x < wlo.x || hi.y < wlo.y || lo.x > whi.x || lo.y > whi.y || lo.x > hi.x || lo.y > hi.y) {
         cull(i);
         return;
     }
-    uvec2 pmin = uvec2(max(lo, vec2(0.0)));
-    uvec2 pmax = uvec2(min(hi, size - 1.0));
+    uvec2 pmin = uvec2(max(lo, wlo));
+    uvec2 pmax = uvec2(min(hi, whi));
     uvec2 tmin = pmin / kTileSize, tmax = pmax / kTileSize;
 
     vec3 dir = normalize(m.xyz - frame.camera_pos.xyz);

@@ -52,6 +52,8 @@ struct FrameParams {
     uvec4 scene;        // gaussian count, SH words per Gaussian (floats, or fp16 pairs), SH degree used, antialiased
     uvec4 capacity;     // x: key capacity, y: device group-count limit, z: style palette size (0: no style),
                         // w: flags (kBlendResume | kBlendFinal | kBlendSlabIds | kFrameHalfSh)
+    uvec4 window;       // pixels x0, y0 (inclusive) to x1, y1 (exclusive) the frame must draw: the
+                        // whole image, or a click's pixel (what reaches no pixel in it is culled)
 };
 
 // One projected Gaussian, written by preprocess and read by emit_keys and blend.
@@ -82,7 +84,7 @@ struct PixelPick {
 static_assert(sizeof(PickPush) == 16);
 static_assert(sizeof(GatherPush) == 16);
 static_assert(sizeof(PixelPick) == 48);
-static_assert(sizeof(FrameParams) == 176);
+static_assert(sizeof(FrameParams) == 192);
 static_assert(sizeof(Splat) == 48);
 }  // namespace pg::render::gpu
 #endif

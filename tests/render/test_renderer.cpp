@@ -86,3 +86,47 @@ TEST_CASE("the real guitar scene renders like the reference (needs ../shared)") 
     for (size_t p = 0; p < gpu.tau_id.size(); ++p) covered += gpu.rgba[p * 4 + 3] > 0.5f;
     CHECK(covered > gpu.tau_id.size() / 10);
 }
+
+TEST_CASE("a windowed frame draws its pixels exactly as the whole frame does, from fewer tile keys") {
+    // What a click's lift renders: only the Gaussians that reach the window, so its pixels and
+    // its pick must be the whole frame's, bit for bit.
+    auto scene = ref::random_scene(11, 3000, 2);
+    const auto& cam = scene.cameras[0];
+    auto& ctx = test::gpu();
+    render::GpuScene gpu_scene(ctx, scene.cloud);
+    render::Renderer renderer(ctx);
+    renderer.render(gpu_scene, cam, {});
+    const auto full = renderer.read();
+    const uint32_t full_keys = renderer.key_count();
+    const int w = cam.width, h = cam.height;
+    const std::vector<glm::ivec4> windows = {{w / 2, h / 2, w / 2 + 1, h / 2 + 1}, {0, 0, 1, 1}, {w - 1, h - 1, w, h},
+                                             {w / 3, h / 4, w / 3 + 21, h / 4 + 13}, {-5, -5, 3, 2}};
+    for (const auto& win : windows) {
+        INFO("window " << win.x << "," << win.y << " - " << win.z << "," << win.w);
+        render::RenderSettings s;
+        s.window = win;
+        renderer.render(gpu_scene, cam, s);
+        CHECK(renderer.key_count() < full_keys / 4);
+        const auto part = renderer.read();
+        size_t differing = 0, pixels = 0;
+        for (int y = std::max(0, win.y); y < std::min(h, win.w); ++y)
+            for (int x = std::max(0, win.x); x < std::min(w, win.z); ++x) {
+                const size_t p = size_t(y) * w + x;
+                ++pixels;
+                bool same = full.depth[p] == part.depth[p] && full.tau_depth[p] == part.tau_depth[p] &&
+                            full.tau_id[p] == part.tau_id[p] && full.contributors[p] == part.contributors[p];
+                for (int c = 0; c < 4; ++c) same = same && full.rgba[p * 4 + c] == part.rgba[p * 4 + c];
+                differing += same ? 0 : 1;
+            }
+        CHECK(pixels > 0);
+        CHECK(differing == 0);
+        const int px = std::max(0, win.x), py = std::max(0, win.y);
+        const auto windowed = renderer.pick(px, py);
+        renderer.render(gpu_scene, cam, {});
+        const auto whole = renderer.pick(px, py);
+        CHECK(windowed.surface_id == whole.surface_id);
+        CHECK(windowed.tau_id == whole.tau_id);
+        CHECK(windowed.surface_depth == whole.surface_depth);
+        CHECK(windowed.opacity == whole.opacity);
+    }
+}
