@@ -15,6 +15,7 @@
 
 #include "app/cli/commands.h"
 #include "app/common/progress.h"
+#include "app/common/staged_output.h"
 #include "app/common/ptv3_decoder.h"
 #include "app/common/up_arg.h"
 #include "dataset/atomic_file.h"
@@ -135,7 +136,6 @@ void run_clicks(const ClicksArgs& a) {
         camera_file(dir);
     }
     const fs::path out(a.out);
-    if (fs::exists(out) && !fs::is_directory(out)) throw data::InputError(a.out, "exists and is not a folder");
     if (fs::exists(out) && fs::equivalent(out, a.gt))
         throw data::InputError("--out", "is the suite folder; predictions go to a folder of their own");
     seg::SegmentOptions o;
@@ -147,6 +147,8 @@ void run_clicks(const ClicksArgs& a) {
     o.seed = a.seed;
     if (!a.roi.empty()) parse_roi(a.roi, o.roi_length, o.roi_width);
     if (a.up != "cameras" && a.up != "ground") parse_up(a.up);
+    // Every scene's clicks.json appears at the end, or none (beside what OUT already holds).
+    StagedOutput staged(out);
 
     vk::ContextOptions co;
     co.device = a.device.device;
@@ -161,6 +163,7 @@ void run_clicks(const ClicksArgs& a) {
     for (const auto& name : scenes) {
         const fs::path dir = fs::path(a.gt) / name;
         const auto scene_start = Clock::now();
+        const size_t clicks_before = clicks_total;
         const auto cloud = data::load_scene(dir / "scene.ply");
         const auto cameras = data::load_cameras(camera_file(dir));
         const auto labels = cloud.int_property(suite.label_property());
@@ -226,9 +229,13 @@ void run_clicks(const ClicksArgs& a) {
         }
         progress.finish();
         report["total_ms"] = ms_since(scene_start);
-        fs::create_directories(out / name);
-        data::write_atomically(out / name / "clicks.json", [&](std::ostream& os) { os << report.dump(2) << "\n"; });
+        fs::create_directories(staged.dir() / name);
+        data::write_atomically(staged.dir() / name / "clicks.json", [&](std::ostream& os) { os << report.dump(2) << "\n"; });
+        if (!isatty(2) || std::getenv("CI"))  // a log line per scene where no progress line shows
+            std::printf("%s: %zu object(s), %zu click(s), %.1f s\n", name.c_str(), objects.size(),
+                        clicks_total - clicks_before, ms_since(scene_start) / 1000.0);
     }
+    staged.commit();
 
     const double seconds = ms_since(run_start) / 1000.0;
     std::printf("clicks: %zu object(s) in %zu scene(s), %zu click(s), %.1f s, into %s\n", all.size(), scenes.size(),

@@ -11,6 +11,7 @@
 
 #include "app/cli/commands.h"
 #include "app/common/progress.h"
+#include "app/common/staged_output.h"
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
 #include "dataset/report/palette.h"
@@ -103,10 +104,10 @@ void run_synth(const SynthArgs& a) {
     auto suite = data::synth::parse_suite(a.suite);
     if (a.scenes < 1 || a.scenes > 10000) throw data::InputError("--scenes", "must be between 1 and 10000");
     if (a.preview_views < 1 || a.preview_views > 64) throw data::InputError("--previews", "must be between 1 and 64");
-    fs::path out(a.out);
-    std::error_code ec;
-    fs::create_directories(out, ec);
-    if (!fs::is_directory(out)) throw data::InputError(a.out, "cannot create the output folder");
+    // The suite appears whole or not at all: a failure part-way (the device or the disk full, an
+    // interrupt) leaves OUT as it was.
+    StagedOutput staged{fs::path(a.out)};
+    const fs::path& out = staged.dir();
 
     vk::ContextOptions co;
     co.device = a.device.device;
@@ -166,6 +167,7 @@ void run_synth(const SynthArgs& a) {
     progress.finish();
     data::synth::write_suite_index(suite, a.seed, names, out);
     data::write_atomically(out / "synth_report.json", [&](std::ostream& os) { os << report.dump(2) << "\n"; });
+    staged.commit();
     std::printf("wrote %zu %s scene(s) to %s\n", names.size(), a.suite.c_str(), a.out.c_str());
 }
 

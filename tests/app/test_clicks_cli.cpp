@@ -203,3 +203,53 @@ TEST_CASE("clicks: bad input is one clear line, a non-zero exit and nothing writ
     CHECK(r.code != 0);
     CHECK(r.out.find("--split") != std::string::npos);
 }
+
+TEST_CASE("synth and clicks with the device out of memory part-way: one error, exit 1, the output folder as it was") {
+    // PG_FAULT_DEVICE_ALLOCATIONS=N fails every device allocation after the first N. Swept
+    // over N, some runs fail after a first scene was finished (its log line printed): without
+    // staging its files would be left behind.
+    auto dir = pg::test::scratch("cli-clicks-oom");
+    const std::string notes = "the user's own file";
+    auto fresh = [&](const fs::path& out) {
+        fs::remove_all(out);
+        fs::create_directories(out);
+        pg::data::write_atomically(out / "notes.txt", [&](std::ostream& os) { os << notes; });
+    };
+    auto entries = [](const fs::path& out) {
+        std::set<std::string> names;
+        for (const auto& e : fs::directory_iterator(out)) names.insert(e.path().filename().string());
+        return names;
+    };
+    const std::set<std::string> untouched = {"notes.txt"};
+    for (const std::string command : {"synth", "clicks"}) {
+        const fs::path out = dir / command;
+        const std::string args =
+            command == "synth"
+                ? " synth --suite desk --scenes 2 --seed 5 --density 0.05 --cameras 4 --width 64 --height 48 --previews 1 --out "
+                : " clicks --gt " + tiny_suite().string() + " --model ground-truth --split all --max-clicks 3 --out ";
+        int failed_late = 0;
+        bool succeeded = false;
+        for (int n = 0; n < 2000 && !succeeded; n += 4) {
+            fresh(out);
+            auto r = pg::test::run_command("CI=1 PG_FAULT_DEVICE_ALLOCATIONS=" + std::to_string(n) + " " + std::string(PG_CLI) +
+                                           args + out.string());
+            INFO(command << " after " << n << " allocations: " << r.out);
+            if (r.code == 0) {
+                succeeded = true;
+                std::set<std::string> whole = {"desk_000", "desk_001", "notes.txt"};
+                if (command == "synth") whole.insert({"suite.json", "synth_report.json"});
+                CHECK(entries(out) == whole);
+                continue;
+            }
+            CHECK(r.code == 1);
+            CHECK(r.out.find("VK_ERROR_OUT_OF_DEVICE_MEMORY") != std::string::npos);
+            CHECK(r.out.find("error: ") == r.out.rfind("error: "));
+            CHECK(entries(out) == untouched);
+            CHECK(pg::data::read_text_file(out / "notes.txt") == notes);
+            if (r.out.find("desk_000: ") != std::string::npos) ++failed_late;
+        }
+        INFO(command);
+        CHECK(succeeded);
+        CHECK(failed_late >= 1);
+    }
+}
