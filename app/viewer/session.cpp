@@ -55,6 +55,10 @@ SegmentOutcome outcome_of(seg::SegmentResult result) {
 
 }  // namespace
 
+bool want_coarse_answer(bool cpu_device, double slowest_graph_job_ms, double slow_ms) {
+    return cpu_device || slowest_graph_job_ms > slow_ms;
+}
+
 SegmentOutcome segment_job(seg::Segmenter& segmenter, const SegmentJob& job, seg::SegmentOptions options,
                            std::map<std::string, double>& stage_ms, const std::atomic<bool>* cancel,
                            const std::function<void(SegmentOutcome)>& coarse) {

@@ -34,6 +34,12 @@ namespace pg::viewer {
 seg::GraphUse decoder_graph_use(const std::string& decoder);
 bool decoder_is_joint(const std::string& decoder);
 
+// Whether a graph job should hand over a coarse answer before its cold solve. The coarse answer
+// costs a solve of its own (about 1 s of a 1.6 s cold click on an H100, where the full solve is
+// a few frames anyway), so it is worth it only where full solves are slow: on a CPU device, or
+// once a graph job on this device took longer than `slow_ms`.
+bool want_coarse_answer(bool cpu_device, double slowest_graph_job_ms, double slow_ms = 1000.0);
+
 // One segmentation, as `segment` would run it on prompts.json: one object (the network alone),
 // or every object (graph decoders).
 struct SegmentJob {

@@ -442,10 +442,12 @@ void Viewer::update_segmentation() {
         SegmentOutcome outcome;
         std::map<std::string, double> ms;
         const auto t0 = Clock::now();
-        // A cold graph solve's coarse answer is shown while the full one runs.
-        auto coarse = [this, job](SegmentOutcome answer) {
-            inbox_.post([this, job, answer = std::move(answer)]() mutable { session_.store_coarse(job, std::move(answer)); });
-        };
+        // A cold graph solve's coarse answer is shown while the full one runs, where solves are slow.
+        std::function<void(SegmentOutcome)> coarse;
+        if (want_coarse_answer(ctx_->info().type == VK_PHYSICAL_DEVICE_TYPE_CPU, slowest_graph_job_ms_))
+            coarse = [this, job](SegmentOutcome answer) {
+                inbox_.post([this, job, answer = std::move(answer)]() mutable { session_.store_coarse(job, std::move(answer)); });
+            };
         try {
             outcome = job_engine_->segment(job, ms, cancel.get(), coarse);
         } catch (const std::exception& e) {
@@ -458,6 +460,7 @@ void Viewer::update_segmentation() {
             if (!outcome.error.empty()) status("segmentation failed: " + outcome.error, true);
             else if (!outcome.errors.empty()) status("segmentation failed: " + outcome.errors.begin()->second, true);
             else segment_ms_ = ms, segment_wall_ms_ = wall;
+            if (ms.count("graph solve")) slowest_graph_job_ms_ = std::max(slowest_graph_job_ms_.load(), wall);
         });
     });
 }

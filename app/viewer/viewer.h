@@ -145,6 +145,7 @@ private:
     std::shared_ptr<std::atomic<bool>> segment_cancel_;  // the job in flight's
     std::map<std::string, double> segment_ms_;
     double segment_wall_ms_ = 0, lift_ms_ = 0;
+    std::atomic<double> slowest_graph_job_ms_{0};  // read by the job thread (want_coarse_answer)
 
     // Label by class.
     struct ClassJob {

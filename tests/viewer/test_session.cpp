@@ -325,3 +325,11 @@ TEST_CASE("a newer click makes the job in flight stale: its cancelled result is 
     CHECK(count(labels(session), b) == 30);
     CHECK(settle(session, doc).empty());
 }
+
+TEST_CASE("a coarse answer is asked for only where full graph solves are slow", "[viewer]") {
+    // lavapipe: always (a cold click is seconds there); a GPU: not until a graph job took > 1 s.
+    CHECK(viewer::want_coarse_answer(true, 0.0));
+    CHECK_FALSE(viewer::want_coarse_answer(false, 0.0));
+    CHECK_FALSE(viewer::want_coarse_answer(false, 240.0));
+    CHECK(viewer::want_coarse_answer(false, 1650.0));
+}
