@@ -159,6 +159,17 @@ void RandomWalker::record_cycle(const KnnGraph& graph, uint32_t labels, float sc
 }
 
 WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, const WalkOptions& o) {
+    return solve(graph, pr, pr.start, o);
+}
+
+WalkResult RandomWalker::solve(const KnnGraph& graph, WalkProblem&& pr, const WalkOptions& o) {
+    std::vector<float> start = std::move(pr.start);
+    pr.start.clear();
+    return solve(graph, pr, std::move(start), o);
+}
+
+WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, std::vector<float> start,
+                               const WalkOptions& o) {
     const uint32_t n = graph.nodes(), total = pr.labels;
     auto sized = [&](size_t got, size_t want, const char* what) {
         if (got != 0 && got != want)
@@ -169,11 +180,14 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
     if (pr.seed.empty() && n) throw data::InputError("random walker seeds", "are missing");
     sized(pr.gamma.size(), n, "unary strengths");
     sized(pr.prior.size(), size_t(n) * total, "priors");
-    sized(pr.start.size(), size_t(n) * total, "starting point");
+    sized(start.size(), size_t(n) * total, "starting point");
     for (int32_t s : pr.seed)
         if (s < -1 || s >= int32_t(total)) throw data::InputError("random walker seeds", "hold a label out of range");
     WalkResult out;
-    out.x.assign(size_t(n) * total, 0.0f);
+    // The answer takes the start's place, column batch by column batch.
+    const bool started = !start.empty();
+    out.x = std::move(start);
+    if (!started) out.x.assign(size_t(n) * total, 0.0f);
     if (n == 0 || total == 0) return out;
 
     const uint32_t node_groups = vk::ceil_div(n, gpu::kGraphGroup);
@@ -210,7 +224,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, con
         };
         auto prior = columns(pr.prior);
         vk::upload(ctx_, prior_, prior.data(), bytes);
-        auto x0 = pr.start.empty() ? prior : columns(pr.start);
+        auto x0 = started ? columns(out.x) : prior;
         // Multigrid first; a batch in which some column made no progress at all (its residual
         // never fell below half its start: the V-cycle's float arithmetic diverging on it) is
         // solved again from the same start with the Jacobi preconditioner, slow but steady.

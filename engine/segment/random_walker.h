@@ -50,6 +50,10 @@ class RandomWalker {
 public:
     explicit RandomWalker(vk::Context& ctx);
     WalkResult solve(const KnnGraph& graph, const WalkProblem& problem, const WalkOptions& options = {});
+    // The same, taking the problem's starting point over as the answer's storage (a batch of
+    // label columns is read from it before its answer is written there): with many labels the
+    // start and the answer, nodes x labels floats each, are not held twice.
+    WalkResult solve(const KnnGraph& graph, WalkProblem&& problem, const WalkOptions& options = {});
     const std::vector<vk::PassTiming>& timings() const { return timings_; }
 
     // For tests: the multigrid V-cycle z = B r on the GPU for `problem`'s operator (labels <=
@@ -60,6 +64,8 @@ public:
     const WalkHierarchy& hierarchy() const { return hierarchy_; }
 
 private:
+    WalkResult solve(const KnnGraph& graph, const WalkProblem& problem, std::vector<float> start,
+                     const WalkOptions& options);
     // One level of the multigrid hierarchy on the device (level 0's operator is the graph's
     // rows with edge_columns_ / edge_weights_; its r and z are the solve's r_ and z_).
     struct DeviceLevel {

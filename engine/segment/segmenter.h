@@ -201,7 +201,9 @@ private:
     SeededForest forest_;
     std::vector<uint32_t> graph_domain_;  // the domain graph_ was built over, and with which options
     GraphOptions graph_built_with_;
-    std::map<int, std::vector<float>> last_solution_;  // per label id (0: background), for warm starts
+    // The last walk's answer (node-major, a column per label id in last_ids_, 0: background), for warm starts.
+    std::vector<float> last_solution_;
+    std::vector<int> last_ids_;
     std::string rendered_view_;  // view, pixel and settings renderer_ last drew: a repeated click renders nothing
 };
 

@@ -261,6 +261,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         graph_domain_ = d.domain;
         graph_built_with_ = o.graph_options;
         last_solution_.clear();
+        last_ids_.clear();
     }
     result.stage_ms["graph build"] += ms_since(t0);
 
@@ -426,17 +427,22 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
     // Warm start: a label solved before on this graph starts from its last solution.
     std::vector<int> ids(labels, 0);
     for (size_t j = 0; j < m; ++j) ids[j + 1] = objects[j]->id;
+    std::vector<int> last_column(labels, -1);  // per label: its column in last_solution_, -1 none
     bool warm = false;
-    for (int id : ids) warm = warm || last_solution_.count(id);
+    for (uint32_t l = 0; l < labels; ++l) {
+        auto it = std::find(last_ids_.begin(), last_ids_.end(), ids[l]);
+        if (it != last_ids_.end()) last_column[l] = int(it - last_ids_.begin()), warm = true;
+    }
     if (warm) {
+        const size_t last_labels = last_ids_.size();
         pr.start.assign(size_t(nodes) * labels, 0.0f);
-        for (uint32_t l = 0; l < labels; ++l) {
-            auto it = last_solution_.find(ids[l]);
+        for (uint32_t l = 0; l < labels; ++l)
             for (uint32_t i = 0; i < nodes; ++i)
                 pr.start[size_t(i) * labels + l] =
-                    it != last_solution_.end() ? it->second[i] : (pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l]);
-        }
+                    last_column[l] >= 0 ? last_solution_[i * last_labels + size_t(last_column[l])]
+                                        : (pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l]);
     }
+
     auto t0 = Clock::now();
     const auto root = component_roots(graph_, nbr);
     result.stage_ms["graph components"] += ms_since(t0);
@@ -466,17 +472,14 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
             }
         }
     }
-    t0 = Clock::now();
-    auto solution = walker_.solve(graph_, pr, o.walk);
-    result.stage_ms["graph walk"] += ms_since(t0);
-    last_solution_.clear();
-    for (uint32_t l = 0; l < labels; ++l) {
-        auto& column = last_solution_[ids[l]];
-        column.resize(nodes);
-        for (uint32_t i = 0; i < nodes; ++i) column[i] = solution.x[size_t(i) * labels + l];
-    }
-
     GraphReport report = graph_report(graph_, GraphSolver::Walk, pr.seed);
+    // A component of the graph with no seed, prior or coarse start has no answer (its system is
+    // singular and keeps whatever it started from): it stays unlabelled and is counted.
+    const auto reached = reached_components(root, pr, report);
+    t0 = Clock::now();
+    auto solution = walker_.solve(graph_, std::move(pr), o.walk);  // the start becomes the answer's storage
+    result.stage_ms["graph walk"] += ms_since(t0);
+
     report.iterations = solution.iterations;
     report.levels = solution.levels;
     report.jacobi_retries = solution.jacobi_retries;
@@ -484,11 +487,10 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
     if (solution.levels) result.stage_ms["graph hierarchy"] += solution.hierarchy_ms;
     for (const auto& t : walker_.timings()) result.stage_ms["graph walk gpu"] += t.ms;
     report.residual = solution.residual;
-    // A component of the graph with no seed, prior or coarse start has no answer (its system is
-    // singular and keeps whatever it started from): it stays unlabelled and is counted.
-    const auto reached = reached_components(root, pr, report);
     // Each reached node's most likely label and its share of the probability.
     const WalkLabels w = walk_labels(solution.x, labels, &reached);
+    last_solution_ = std::move(solution.x);  // kept for the next click's warm start
+    last_ids_ = ids;
     if (o.solver == GraphSolver::WalkForest) {
         // Where the walk is sure it stands; the forest's widest paths settle the rest, without
         // the walk's pull towards the label with the most seeds.
@@ -522,6 +524,7 @@ void Segmenter::solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>
             }
     auto forest = forest_.solve(graph_, seed, o.forest);
     last_solution_.clear();  // the walk's warm start does not apply to hard labels
+    last_ids_.clear();
 
     GraphReport report = graph_report(graph_, GraphSolver::Forest, seed);
     report.rounds = forest.rounds;
