@@ -13,7 +13,7 @@
 
 #include "dataset/gaussian_cloud.h"
 #include "engine/render/gpu_scene.h"
-#include "engine/segment/widest_paths.h"
+#include "engine/segment/host_adjacency.h"
 #include "engine/sort/radix_sort.h"
 #include "engine/vk/buffer.h"
 #include "engine/vk/commands.h"

@@ -7,17 +7,9 @@
 #include <cstdint>
 #include <vector>
 
-namespace pg::seg {
+#include "engine/segment/host_adjacency.h"
 
-// W + W^T as CSR rows: per node its neighbours either way and the edge weights (KnnGraph's
-// host copy, in the device's row order), and each node's degree as the device computed it.
-struct HostAdjacency {
-    std::vector<uint32_t> rows;  // nodes + 1 starts into columns / weights
-    std::vector<uint32_t> columns;
-    std::vector<float> weights;
-    std::vector<float> degree;
-    uint32_t nodes() const { return rows.empty() ? 0 : uint32_t(rows.size() - 1); }
-};
+namespace pg::seg {
 
 struct WidestPaths {
     std::vector<int32_t> label;  // per node: the seed's label its widest path comes from; -1 unreached
