@@ -442,7 +442,6 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
                     last_column[l] >= 0 ? last_solution_[i * last_labels + size_t(last_column[l])]
                                         : (pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l]);
     }
-
     auto t0 = Clock::now();
     const auto root = component_roots(graph_, nbr);
     result.stage_ms["graph components"] += ms_since(t0);
