@@ -156,3 +156,58 @@ TEST_CASE("train: bad arguments are one clear error and nothing is written") {
     }
     CHECK(fs::is_empty(dir));
 }
+
+TEST_CASE("train with the device out of memory: one error, exit 1, no model, and its last checkpoint resumes to the same model") {
+    // PG_FAULT_DEVICE_ALLOCATIONS=N fails every device allocation after the first N. Bisection
+    // finds an N that fails after a checkpoint was written (most allocations are the first step's).
+    const fs::path suite = train_suite();
+    const fs::path dir = pg::test::scratch("cli-train-oom");
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string args = common_args(suite) + " --steps 3 --checkpoint-every 1";
+    Run whole = run(args + " --out " + (dir / "whole.safetensors").string());
+    INFO(whole.out);
+    REQUIRE(whole.code == 0);
+    auto faulted = [&](int n) {
+        fs::remove_all(dir / "f");
+        fs::create_directories(dir / "f");
+        return pg::test::run_command("PG_FAULT_DEVICE_ALLOCATIONS=" + std::to_string(n) + " " + std::string(PG_CLI) + " " +
+                                     args + " --out " + (dir / "f" / "m.safetensors").string());
+    };
+    int fails = 0, passes = 4096;
+    while (faulted(passes).code != 0 && passes < (1 << 20)) fails = passes, passes *= 2;
+    Run late{-1, ""};
+    while (passes - fails > 1) {
+        const int mid = (fails + passes) / 2;
+        Run r = faulted(mid);
+        if (r.code == 0) {
+            passes = mid;
+            continue;
+        }
+        fails = mid;
+        if (fs::exists(dir / "f" / "m.ckpt.safetensors")) {
+            late = r;
+            break;
+        }
+    }
+    INFO("failing after " << fails << " allocations left a checkpoint: " << late.out);
+    REQUIRE(fs::exists(dir / "f" / "m.ckpt.safetensors"));
+    for (int n : {fails, 0}) {
+        auto r = n == fails ? late : faulted(n);
+        INFO("after " << n << " allocations: " << r.out);
+        CHECK(r.code == 1);
+        CHECK(r.out.find("VK_ERROR_OUT_OF_DEVICE_MEMORY") != std::string::npos);
+        CHECK(r.out.find("error: ") == r.out.rfind("error: "));
+        CHECK_FALSE(fs::exists(dir / "f" / "m.safetensors"));
+        for (const auto& e : fs::directory_iterator(dir / "f"))
+            CHECK(e.path().filename().string().find(".tmp") == std::string::npos);
+    }
+    // Back to the late failure: its checkpoint is whole, and resuming it gives the uninterrupted model.
+    REQUIRE(faulted(fails).code == 1);
+    REQUIRE(fs::exists(dir / "f" / "m.ckpt.safetensors"));
+    Run resumed = run(args + " --resume " + (dir / "f" / "m.ckpt.safetensors").string() + " --out " +
+                      (dir / "f" / "m.safetensors").string());
+    INFO(resumed.out);
+    REQUIRE(resumed.code == 0);
+    CHECK(pg::data::read_file(dir / "f" / "m.safetensors") == pg::data::read_file(dir / "whole.safetensors"));
+}
