@@ -73,6 +73,8 @@ Context::Context(const ContextOptions& options) : options_(options) {
     options_.discrete_memory = options.discrete_memory || env_flag("PG_DISCRETE_MEMORY");
     if (const char* env = std::getenv("PG_FAULT_DEVICE_ALLOCATIONS"); env && options_.fail_allocations_after < 0)
         options_.fail_allocations_after = std::strtoll(env, nullptr, 10);
+    if (const char* env = std::getenv("PG_FAULT_DEVICE_SUBMITS"); env && options_.fail_submits_after < 0)
+        options_.fail_submits_after = std::strtoll(env, nullptr, 10);
     create_instance(validation);
     std::string wanted = options.device;
     if (wanted.empty())

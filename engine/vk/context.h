@@ -28,6 +28,9 @@ struct ContextOptions {
     // Fault injection for tests (also PG_FAULT_DEVICE_ALLOCATIONS=N): the allocations after the
     // first N fail as VK_ERROR_OUT_OF_DEVICE_MEMORY would. -1: none fail.
     int64_t fail_allocations_after = -1;
+    // The same for queue submissions (also PG_FAULT_DEVICE_SUBMITS=N): a driver may report a full
+    // device there too, after every allocation succeeded.
+    int64_t fail_submits_after = -1;
     // For a window (the viewer): extra instance extensions (GLFW's), and a test of whether a
     // queue family can present; the device then also needs VK_KHR_swapchain.
     std::vector<std::string> instance_extensions;
@@ -96,6 +99,11 @@ public:
         return options_.fail_allocations_after >= 0 && allocations_.fetch_add(1) >= options_.fail_allocations_after;
     }
 
+    // True when this queue submission is to fail (ContextOptions::fail_submits_after).
+    bool submit_fault() {
+        return options_.fail_submits_after >= 0 && submits_.fetch_add(1) >= options_.fail_submits_after;
+    }
+
     // Validation messages seen so far (warnings and errors); tests fail when non-zero.
     static uint64_t validation_message_count();
 
@@ -112,7 +120,7 @@ private:
     int present_family(VkPhysicalDevice pd) const;
 
     std::mutex attachments_mutex_, queue_mutex_;
-    std::atomic<int64_t> allocations_{0};
+    std::atomic<int64_t> allocations_{0}, submits_{0};
     std::map<std::string, std::shared_ptr<void>> attachments_;
     VkInstance instance_ = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;

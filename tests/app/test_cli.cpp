@@ -401,3 +401,36 @@ TEST_CASE("segment with the device out of memory at any point: one error, exit 1
         CHECK(fs::exists(dir / "out" / f));
     CHECK(pg::data::read_text_file(dir / "out" / "notes.txt") == "the user's own file");
 }
+
+TEST_CASE("segment with a queue submission failing out of memory at any point: one error, exit 1, the output folder as it was") {
+    // PG_FAULT_DEVICE_SUBMITS=N fails every vkQueueSubmit after the first N with
+    // VK_ERROR_OUT_OF_DEVICE_MEMORY, as a driver may when the device fills after every
+    // allocation succeeded. Swept over N until the run succeeds (the sample takes a few tens).
+    auto dir = pg::test::scratch("cli-submit-oom");
+    fs::remove_all(dir);
+    fs::create_directories(dir / "out");
+    pg::data::write_atomically(dir / "out" / "notes.txt", [](std::ostream& os) { os << "the user's own file"; });
+    const std::string args = " segment " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json --prompts " +
+                             sample() + "/prompts.json --views 0,1 --out " + (dir / "out").string();
+    int failures = 0;
+    bool succeeded = false;
+    for (int n = 0; n < 2000 && !succeeded; n += 6) {
+        auto r = pg::test::run_command("PG_FAULT_DEVICE_SUBMITS=" + std::to_string(n) + " " + std::string(PG_CLI) + args);
+        INFO("after " << n << " submissions: " << r.out);
+        if (r.code == 0) {
+            succeeded = true;
+            break;
+        }
+        ++failures;
+        CHECK(r.code == 1);
+        CHECK(r.out.find("vkQueueSubmit failed: VK_ERROR_OUT_OF_DEVICE_MEMORY") != std::string::npos);
+        CHECK(r.out.find("error: ") == r.out.rfind("error: "));
+        std::vector<std::string> left;
+        for (const auto& e : fs::directory_iterator(dir / "out")) left.push_back(e.path().filename().string());
+        CHECK(left == std::vector<std::string>{"notes.txt"});
+    }
+    CHECK(succeeded);
+    CHECK(failures >= 4);  // the upload, the lifts, the graph and walk, the masks
+    for (const char* f : {"scene.ply", "report.json", "masks/view_000.png", "masks/view_001.png", "notes.txt"})
+        CHECK(fs::exists(dir / "out" / f));
+}
