@@ -364,24 +364,35 @@ TEST_CASE("segment on a full disk: one error naming the file, exit 1, no partial
     CHECK(pg::data::read_file(dir / "in" / "scene.ply") == before);
 }
 
+// An output folder that holds a file of the user's, and the sample's segment into it (the fault
+// tests check that a failed run leaves the folder as it was).
+std::string sample_segment_into_user_folder(const fs::path& dir) {
+    fs::remove_all(dir);
+    fs::create_directories(dir / "out");
+    pg::data::write_atomically(dir / "out" / "notes.txt", [](std::ostream& os) { os << "the user's own file"; });
+    return " segment " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json --prompts " + sample() +
+           "/prompts.json --views 0,1 --out " + (dir / "out").string();
+}
+
+// A run that failed as it should: exit 1, one error saying `why`, and OUT as it was.
+void check_failed_cleanly(const Run& r, const fs::path& out, const std::string& why) {
+    CHECK(r.code == 1);
+    CHECK(r.out.find(why) != std::string::npos);
+    CHECK(r.out.find("error: ") == r.out.rfind("error: "));
+    std::vector<std::string> left;
+    for (const auto& e : fs::directory_iterator(out)) left.push_back(e.path().filename().string());
+    CHECK(left == std::vector<std::string>{"notes.txt"});
+}
+
 TEST_CASE("segment with the device out of memory at any point: one error, exit 1, the output folder as it was") {
     // PG_FAULT_DEVICE_ALLOCATIONS=N fails every device allocation after the first N, as a full
     // device would: at the scene's upload, the graph, the walk, the masks' rasterization.
     auto dir = pg::test::scratch("cli-device-oom");
-    fs::remove_all(dir);
-    fs::create_directories(dir / "out");
-    pg::data::write_atomically(dir / "out" / "notes.txt", [](std::ostream& os) { os << "the user's own file"; });
-    const std::string args = " segment " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json --prompts " +
-                             sample() + "/prompts.json --views 0,1 --out " + (dir / "out").string();
+    const std::string args = sample_segment_into_user_folder(dir);
     for (int n : {0, 7, 40, 200}) {
         auto r = pg::test::run_command("PG_FAULT_DEVICE_ALLOCATIONS=" + std::to_string(n) + " " + std::string(PG_CLI) + args);
         INFO("after " << n << " allocations: " << r.out);
-        CHECK(r.code == 1);
-        CHECK(r.out.find("VK_ERROR_OUT_OF_DEVICE_MEMORY") != std::string::npos);
-        CHECK(r.out.find("error: ") == r.out.rfind("error: "));
-        std::vector<std::string> left;
-        for (const auto& e : fs::directory_iterator(dir / "out")) left.push_back(e.path().filename().string());
-        CHECK(left == std::vector<std::string>{"notes.txt"});
+        check_failed_cleanly(r, dir / "out", "VK_ERROR_OUT_OF_DEVICE_MEMORY");
     }
     // render likewise: no picture unless all of them.
     auto rr = pg::test::run_command("PG_FAULT_DEVICE_ALLOCATIONS=20 " + std::string(PG_CLI) + " render " + sample() +
@@ -407,11 +418,7 @@ TEST_CASE("segment with a queue submission failing out of memory at any point: o
     // VK_ERROR_OUT_OF_DEVICE_MEMORY, as a driver may when the device fills after every
     // allocation succeeded. Swept over N until the run succeeds (the sample takes a few tens).
     auto dir = pg::test::scratch("cli-submit-oom");
-    fs::remove_all(dir);
-    fs::create_directories(dir / "out");
-    pg::data::write_atomically(dir / "out" / "notes.txt", [](std::ostream& os) { os << "the user's own file"; });
-    const std::string args = " segment " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json --prompts " +
-                             sample() + "/prompts.json --views 0,1 --out " + (dir / "out").string();
+    const std::string args = sample_segment_into_user_folder(dir);
     int failures = 0;
     bool succeeded = false;
     for (int n = 0; n < 2000 && !succeeded; n += 6) {
@@ -422,12 +429,7 @@ TEST_CASE("segment with a queue submission failing out of memory at any point: o
             break;
         }
         ++failures;
-        CHECK(r.code == 1);
-        CHECK(r.out.find("vkQueueSubmit failed: VK_ERROR_OUT_OF_DEVICE_MEMORY") != std::string::npos);
-        CHECK(r.out.find("error: ") == r.out.rfind("error: "));
-        std::vector<std::string> left;
-        for (const auto& e : fs::directory_iterator(dir / "out")) left.push_back(e.path().filename().string());
-        CHECK(left == std::vector<std::string>{"notes.txt"});
+        check_failed_cleanly(r, dir / "out", "vkQueueSubmit failed: VK_ERROR_OUT_OF_DEVICE_MEMORY");
     }
     CHECK(succeeded);
     CHECK(failures >= 4);  // the upload, the lifts, the graph and walk, the masks
