@@ -20,7 +20,7 @@ const char* lift_rule_name(LiftRule rule) { return rule == LiftRule::Surface ? "
 
 Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, const data::Camera& camera, double u,
                   double v, bool positive, const render::RenderSettings& settings, LiftRule rule,
-                  const std::string& what, bool rendered) {
+                  const std::string& what) {
     const int px = int(std::floor(u)), py = int(std::floor(v));
     if (!std::isfinite(u) || !std::isfinite(v) || px < 0 || py < 0 || px >= camera.width || py >= camera.height)
         throw data::InputError(what, "pixel (" + std::to_string(u) + ", " + std::to_string(v) + ") is off the " +
@@ -31,7 +31,7 @@ Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, con
     // Only what reaches the pixel is drawn: a fraction of a frame's tile keys, and a streamed
     // scene's one slab, whatever the scene's size.
     s.window = glm::ivec4(px, py, px + 1, py + 1);
-    if (!rendered || scene.streamed()) renderer.render(scene, camera, s);
+    renderer.render(scene, camera, s);
     const render::PixelPick pick = renderer.pick(px, py);
     if (!(pick.opacity >= kMinLiftCoverage))
         throw data::InputError(what, "pixel (" + std::to_string(px) + ", " + std::to_string(py) + ") of view " +

@@ -25,11 +25,11 @@ namespace pg::seg {
 // wall, a blurry edge, a thin part — takes tau x its final opacity under the tau rule: the
 // same fraction of what the ray meets.
 // Throws InputError naming `what` when the pixel is off the image or (nearly) empty.
-// Renders the pixel's window of the view at the camera's own size unless `rendered` says the
-// renderer's last frame already holds this pixel of this view with these settings.
+// Renders only what reaches the pixel (a window of the view at the camera's own size): a fraction
+// of a frame's work, so every click renders its own.
 Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, const data::Camera& camera, double u,
                   double v, bool positive, const render::RenderSettings& settings, LiftRule rule,
-                  const std::string& what, bool rendered = false);
+                  const std::string& what);
 
 // A click given in 3D: the anchor is the point itself, and the Gaussian of nearest centre
 // stands for the surface it hit (a scan of the cloud on the host).

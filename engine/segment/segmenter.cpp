@@ -68,16 +68,7 @@ Anchor Segmenter::anchor_for(const data::PromptClick& click, const SegmentOption
     if (click.point) return anchor_at_point(cloud_, *click.point, click.positive);
     auto it = std::find_if(cameras_.begin(), cameras_.end(), [&](auto& c) { return c.name == click.view; });
     if (it == cameras_.end()) throw data::InputError(what, "no camera named '" + click.view + "'");
-    // A lift draws its pixel's window alone: the same pixel of a view already in the renderer with
-    // the settings that shape the tau-depth needs no second render.
-    const std::string key = click.view + "|" + std::to_string(std::floor(click.u)) + "," +
-                            std::to_string(std::floor(click.v)) + "|" + std::to_string(settings.tau) + "|" +
-                            std::to_string(settings.near) + "|" + std::to_string(settings.antialiased);
-    const bool rendered = rendered_view_ == key;
-    rendered_view_.clear();  // if lifting throws, the frame state is unknown
-    Anchor a = lift_click(renderer_, scene_, *it, click.u, click.v, click.positive, settings, o.lift, what, rendered);
-    rendered_view_ = key;
-    return a;
+    return lift_click(renderer_, scene_, *it, click.u, click.v, click.positive, settings, o.lift, what);
 }
 
 SegmentResult Segmenter::segment(const data::Prompts& prompts, const SegmentOptions& options, const LiftedClicks& lifted) {

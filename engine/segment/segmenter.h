@@ -204,7 +204,6 @@ private:
     // The last walk's answer (node-major, a column per label id in last_ids_, 0: background), for warm starts.
     std::vector<float> last_solution_;
     std::vector<int> last_ids_;
-    std::string rendered_view_;  // view, pixel and settings renderer_ last drew: a repeated click renders nothing
 };
 
 }  // namespace pg::seg

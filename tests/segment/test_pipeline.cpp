@@ -187,7 +187,7 @@ TEST_CASE("click lifting: a click on an object lifts onto it, though the ground 
     auto tau = seg::lift_click(renderer, gpu, cam, 33, 25, true, {}, seg::LiftRule::Tau, "click");
     CHECK(tau.gaussian == ground);
     CHECK(tau.position.z == Approx(5.0).margin(1e-3));
-    auto surface = seg::lift_click(renderer, gpu, cam, 33, 25, true, {}, seg::LiftRule::Surface, "click", true);
+    auto surface = seg::lift_click(renderer, gpu, cam, 33, 25, true, {}, seg::LiftRule::Surface, "click");
     CHECK(surface.gaussian == want.surface_id);
     CHECK(surface.gaussian != ground);
     CHECK(surface.position.z == Approx(2.0).margin(1e-3));

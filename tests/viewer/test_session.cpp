@@ -222,7 +222,7 @@ struct ClickedScene {
                     c.prompt.v = y + 0.5;
                     c.prompt.positive = found == 0;
                     c.anchor = seg::lift_click(probe, gpu, cam, c.prompt.u, c.prompt.v, c.prompt.positive,
-                                               options.render, options.lift, "test click", true);
+                                               options.render, options.lift, "test click");
                     if (found == 0 && instance[size_t(c.anchor.gaussian)] == 0) continue;  // the positive click lands on an instance
                     doc.add_click(c);
                     ++found;
