@@ -42,6 +42,7 @@ const char* scene_format_name(SceneFormat f) {
         case SceneFormat::CompressedPly: return "PlayCanvas compressed PLY";
         case SceneFormat::Splat: return "antimatter15 .splat";
         case SceneFormat::Spz: return "Niantic .spz";
+        case SceneFormat::Sog: return "PlayCanvas SOG";
         case SceneFormat::Synthetic: return "synthetic";
     }
     return "?";

@@ -29,7 +29,7 @@ struct ExtraProperty {
 // rot_N); set_int_property refuses them.
 bool is_gaussian_property_name(std::string_view name);
 
-enum class SceneFormat { InriaPly, InriaPlyAscii, TwoDgsPly, CompressedPly, Splat, Spz, Synthetic };
+enum class SceneFormat { InriaPly, InriaPlyAscii, TwoDgsPly, CompressedPly, Splat, Spz, Sog, Synthetic };
 const char* scene_format_name(SceneFormat f);
 
 constexpr int kMaxShDegree = 3;

@@ -9,6 +9,9 @@ Plain python3 standard library, deterministic output (gzip mtime 0). Run from an
     python3 tools/make_malformed_scenes.py [output_dir]
 """
 import gzip
+import io
+import json
+import zipfile
 import math
 import os
 import shutil
@@ -240,7 +243,93 @@ def build():
     add("spz_extensions_flag.spz", gz(spz_payload(2, flags=2)), "extensions")
     add("spz_header_too_short.spz", gz(struct.pack("<II", 0x5053474E, 2)), "shorter than the 16-byte")
     add("spz_too_much_data.spz", gz(spz_payload(1, extra=bytes(200 * 1024))), "larger than")
+    sog_cases(add)
     return files
+
+
+SOG_GOOD = os.path.join(ROOT, "tests", "fixtures", "sog", "unbundled_sh1")
+
+
+def sog_files():
+    """The good unbundled v2 SH 1 fixture: meta (parsed) and its images' bytes."""
+    meta = json.load(open(os.path.join(SOG_GOOD, "meta.json")))
+    images = {n: open(os.path.join(SOG_GOOD, n), "rb").read() for n in sorted(os.listdir(SOG_GOOD)) if n.endswith(".webp")}
+    return meta, images
+
+
+def sog_zip(meta, images, extra=(), meta_bytes=None):
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_STORED) as z:
+        for name, data in sorted(images.items()):
+            z.writestr(zipfile.ZipInfo(name, date_time=(2026, 1, 1, 0, 0, 0)), data)
+        for name, data in extra:
+            z.writestr(zipfile.ZipInfo(name, date_time=(2026, 1, 1, 0, 0, 0)), data)
+        if meta is not None or meta_bytes is not None:
+            body = meta_bytes if meta_bytes is not None else json.dumps(meta).encode()
+            z.writestr(zipfile.ZipInfo("meta.json", date_time=(2026, 1, 1, 0, 0, 0)), body)
+    return buf.getvalue()
+
+
+def webp_with_canvas(data, width, height):
+    """A lossless (VP8L) WebP whose header claims another canvas; the pixel data is unchanged."""
+    assert data[12:16] == b"VP8L" and data[20] == 0x2F
+    bits = struct.unpack("<I", data[21:25])[0]
+    bits = (bits & ~((1 << 28) - 1)) | (width - 1) | ((height - 1) << 14)
+    return data[:21] + struct.pack("<I", bits) + data[25:]
+
+
+def sog_cases(add):
+    """Bundled .sog files made from the good fixture, one fault each; a streamed case and an
+    unbundled one as JSON files, the streamed one over a good chunk folder, sog_chunk/."""
+    import copy
+    meta, images = sog_files()
+
+    def variant(change):
+        m = copy.deepcopy(meta)
+        change(m)
+        return sog_zip(m, images)
+
+    add("sog_not_a_zip.sog", b"PK\x03\x04" + bytes(60), "not a readable zip archive")
+    add("sog_no_meta.sog", sog_zip(None, images), "holds no meta.json")
+    add("sog_zip_dotdot.sog", sog_zip(meta, images, extra=[("../evil.webp", b"x")]), "absolute or '..' name")
+    add("sog_zip_absolute.sog", sog_zip(meta, images, extra=[("/etc/evil.webp", b"x")]), "absolute or '..' name")
+    add("sog_meta_not_json.sog", sog_zip(None, images, meta_bytes=b"{\"count\": 3,"), "invalid JSON")
+    add("sog_missing_image.sog", sog_zip(meta, {k: v for k, v in images.items() if k != "quats.webp"}),
+        "no entry 'quats.webp'")
+    cut = dict(images)
+    cut["quats.webp"] = images["quats.webp"][:len(images["quats.webp"]) // 2]
+    add("sog_truncated_image.sog", sog_zip(meta, cut), "truncated or corrupt")
+    add("sog_count_past_images.sog", variant(lambda m: m.update(count=100000)), "too small for the meta's count")
+    bomb = dict(images)
+    bomb["scales.webp"] = webp_with_canvas(images["scales.webp"], 16383, 16383)
+    add("sog_huge_canvas.sog", sog_zip(meta, bomb), "refused before decoding")
+    add("sog_missing_field.sog", variant(lambda m: m["means"].pop("mins")), "field 'means.mins' is missing")
+    add("sog_count_wrong_type.sog", variant(lambda m: m.update(count="many")), "field 'count' must be a number")
+    add("sog_codebook_short.sog", variant(lambda m: m["scales"]["codebook"].pop()),
+        "field 'scales.codebook' has 255 entries; it must have 256")
+    add("sog_sh_label_past_palette.sog", variant(lambda m: m["shN"].update(count=3)), "past the palette's 3 entries")
+    add("sog_version_3.sog", variant(lambda m: m.update(version=3)), "field 'version' is 3")
+    add("sog_bands_5.sog", variant(lambda m: m["shN"].update(bands=5)), "field 'shN.bands' is 5")
+    add("sog_image_name_escapes.json",
+        json.dumps(dict(meta, quats={"files": ["../../etc/passwd"]})).encode(), "an absolute or '..' path")
+    add("sog_not_sog.json", b'{"frames": []}', "not a SOG meta")
+    for name, data in images.items():
+        add("sog_chunk/" + name, data, None)
+    add("sog_chunk/meta.json", json.dumps(meta).encode(), None)
+
+    def lod_meta(lods, filenames=("sog_chunk/meta.json",)):
+        return json.dumps({"version": 1, "count": 10, "counts": [10], "lodLevels": 1, "filenames": list(filenames),
+                           "tree": {"bound": {"min": [0, 0, 0], "max": [1, 1, 1]},
+                                    "children": [{"bound": {"min": [0, 0, 0], "max": [1, 1, 1]}, "lods": lods}]}}).encode()
+
+    add("sog_lod_range_past_chunk.json", lod_meta({"0": {"file": 0, "offset": 1100, "count": 100}}),
+        "runs past sog_chunk/meta.json, which holds 1158 Gaussians")
+    add("sog_lod_bad_file_index.json", lod_meta({"0": {"file": 4, "offset": 0, "count": 1}}),
+        "field 'tree.children.0.lods.0.file' is 4, more than 0")
+    add("sog_lod_level_past_levels.json", lod_meta({"3": {"file": 0, "offset": 0, "count": 1}}),
+        "is not a level below lodLevels")
+    add("sog_lod_chunk_escapes.json", lod_meta({"0": {"file": 0, "offset": 0, "count": 1}}, ["../x/meta.json"]),
+        "an absolute or '..' path")
 
 
 def main():
@@ -250,11 +339,14 @@ def main():
     os.makedirs(out)
     files = build()
     for name, (data, _) in sorted(files.items()):
+        os.makedirs(os.path.dirname(os.path.join(out, name)), exist_ok=True)
         with open(os.path.join(out, name), "wb") as f:
             f.write(data)
     with open(os.path.join(os.path.dirname(out), os.path.basename(out) + "_expected.tsv"), "w") as f:
         f.write("# file\tthe error message must contain\n")
         for name, (_, expect) in sorted(files.items()):
+            if expect is None:
+                continue
             f.write("%s\t%s\n" % (name, expect))
     total = sum(len(d) for d, _ in files.values())
     print("wrote %d files (%d bytes) to %s" % (len(files), total, out))

@@ -13,13 +13,18 @@ namespace pg::data {
 // report: binary and ASCII INRIA / 2DGS PLY, every 2^20 Gaussians).
 using LoadProgress = std::function<void(double fraction)>;
 
-// Picks the reader from the file's content (PLY header, gzip magic) and extension.
-GaussianCloud load_scene(const std::filesystem::path& path, const LoadProgress& progress = {});
+// Picks the reader from the file's content (PLY header, gzip or zip magic) and extension; a
+// folder holding a SOG meta is read as SOG. `lod` picks a level of a streamed SOG (0, the
+// finest); any other scene has only level 0.
+GaussianCloud load_scene(const std::filesystem::path& path, const LoadProgress& progress = {}, int lod = 0);
 
 GaussianCloud read_ply(const std::filesystem::path& path,         // INRIA, 2DGS, PlayCanvas compressed
                        const LoadProgress& progress = {});
 GaussianCloud read_splat(const std::filesystem::path& path);      // antimatter15 .splat
 GaussianCloud read_spz(const std::filesystem::path& path);        // Niantic .spz (gzip)
+// PlayCanvas SOG (formats/sog.h): a bundled .sog, an unbundled meta.json (or its folder), or a
+// streamed lod-meta.json, v1 or v2. A streamed scene's environment Gaussians follow level `lod`'s.
+GaussianCloud read_sog(const std::filesystem::path& path, int lod = 0, const LoadProgress& progress = {});
 
 // Throws InputError(where, ...) naming the Gaussian and the property if a mean, scale,
 // rotation or opacity logit is not finite, or a rotation quaternion has zero length.

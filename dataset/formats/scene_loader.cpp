@@ -33,11 +33,46 @@ void validate_cloud(const GaussianCloud& cloud, const std::string& where) {
     }
 }
 
-GaussianCloud load_scene(const fs::path& path, const LoadProgress& progress) {
+namespace {
+
+GaussianCloud load_single_level(const fs::path& path, const LoadProgress& progress);
+
+bool ends_with(const std::string& s, const std::string& tail) {
+    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+}  // namespace
+
+GaussianCloud load_scene(const fs::path& path, const LoadProgress& progress, int lod) {
     const std::string where = path.string();
     std::error_code ec;
-    if (fs::is_directory(path, ec)) throw InputError(where, "is a directory, expected a scene file");
+    if (fs::is_directory(path, ec)) {
+        for (const char* name : {"lod-meta.json", "meta.json", "scene.sog"})
+            if (fs::is_regular_file(path / name, ec)) return read_sog(path, lod, progress);
+        throw InputError(where, "is a directory, expected a scene file (or a SOG folder holding meta.json)");
+    }
     if (!fs::exists(path, ec)) throw InputError(where, "no such file");
+    std::string name = path.filename().string();
+    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+    unsigned char zip[4] = {0, 0, 0, 0};
+    {
+        std::ifstream in(path, std::ios::binary);
+        in.read(reinterpret_cast<char*>(zip), sizeof zip);
+    }
+    const bool is_zip = zip[0] == 'P' && zip[1] == 'K' && zip[2] == 3 && zip[3] == 4;
+    const bool other_format = ends_with(name, ".ply") || ends_with(name, ".splat") || ends_with(name, ".spz");
+    if ((is_zip && !other_format) || ends_with(name, ".sog") || ends_with(name, ".json"))
+        return read_sog(path, lod, progress);
+    if (lod != 0)
+        throw InputError(where, "LOD level " + std::to_string(lod) +
+                                    " asked for, but only a streamed SOG (lod-meta.json) has levels");
+    return load_single_level(path, progress);
+}
+
+namespace {
+
+GaussianCloud load_single_level(const fs::path& path, const LoadProgress& progress) {
+    const std::string where = path.string();
 
     unsigned char magic[4] = {0, 0, 0, 0};
     std::streamsize got = 0;
@@ -59,7 +94,9 @@ GaussianCloud load_scene(const fs::path& path, const LoadProgress& progress) {
     if (ext == ".splat") return read_splat(path);
     if (ext == ".spz") return read_spz(path);
     throw InputError(where, "unknown scene format" + (ext.empty() ? std::string() : " '" + ext + "'") +
-                                ": expected a PLY (.ply), .splat or .spz file");
+                                ": expected a PLY (.ply), .splat, .spz or SOG (.sog, meta.json, lod-meta.json) file");
 }
+
+}  // namespace
 
 }  // namespace pg::data

@@ -1,0 +1,117 @@
+// ZipReader and write_zip over libzip.
+#include "dataset/formats/zip_archive.h"
+
+#include <zip.h>
+
+#include <random>
+
+#include "dataset/error.h"
+
+namespace pg::data {
+
+namespace {
+
+std::string zip_error_text(int code) {
+    zip_error_t e;
+    zip_error_init_with_code(&e, code);
+    std::string text = zip_error_strerror(&e);
+    zip_error_fini(&e);
+    return text;
+}
+
+}  // namespace
+
+bool is_safe_relative_name(const std::string& name) {
+    if (name.empty() || name.front() == '/' || name.find('\\') != std::string::npos) return false;
+    if (name.size() >= 2 && name[1] == ':') return false;  // a drive letter
+    size_t start = 0;
+    while (start <= name.size()) {
+        size_t end = name.find('/', start);
+        if (end == std::string::npos) end = name.size();
+        const std::string part = name.substr(start, end - start);
+        if (part == ".." || (part.empty() && end != name.size())) return false;
+        start = end + 1;
+    }
+    return true;
+}
+
+ZipReader::ZipReader(const std::filesystem::path& path) : where_(path.string()) {
+    int error = 0;
+    archive_ = zip_open(where_.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &error);
+    if (!archive_) throw InputError(where_, "not a readable zip archive (" + zip_error_text(error) + ")");
+    const zip_int64_t n = zip_get_num_entries(archive_, 0);
+    for (zip_int64_t i = 0; i < n; ++i) {
+        const char* name = zip_get_name(archive_, zip_uint64_t(i), ZIP_FL_ENC_RAW);
+        std::string s = name ? name : "";
+        if (!s.empty() && s.back() == '/') continue;  // a folder entry
+        if (!is_safe_relative_name(s)) {
+            zip_discard(archive_);
+            throw InputError(where_, "zip entry '" + s + "' has an absolute or '..' name (refused)");
+        }
+        names_.push_back(std::move(s));
+    }
+}
+
+ZipReader::~ZipReader() {
+    if (archive_) zip_discard(archive_);
+}
+
+bool ZipReader::contains(const std::string& name) const { return zip_name_locate(archive_, name.c_str(), 0) >= 0; }
+
+std::vector<uint8_t> ZipReader::read(const std::string& name, uint64_t max_bytes) const {
+    const std::string where = where_ + ": " + name;
+    const zip_int64_t index = zip_name_locate(archive_, name.c_str(), 0);
+    if (index < 0) throw InputError(where_, "zip archive has no entry '" + name + "'");
+    zip_stat_t st;
+    zip_stat_init(&st);
+    if (zip_stat_index(archive_, zip_uint64_t(index), 0, &st) != 0 || !(st.valid & ZIP_STAT_SIZE))
+        throw InputError(where, "zip entry's size is unreadable");
+    if (st.size > max_bytes)
+        throw InputError(where, "zip entry claims " + std::to_string(st.size) + " bytes, more than the " +
+                                    std::to_string(max_bytes) + " allowed (refused before reading)");
+    zip_file_t* file = zip_fopen_index(archive_, zip_uint64_t(index), 0);
+    if (!file) throw InputError(where, std::string("cannot open zip entry (") + zip_strerror(archive_) + ")");
+    std::vector<uint8_t> bytes(st.size);
+    const zip_int64_t got = st.size ? zip_fread(file, bytes.data(), st.size) : 0;
+    std::string problem;
+    if (got < 0) problem = zip_file_strerror(file);
+    else if (zip_uint64_t(got) != st.size)
+        problem = "ends after " + std::to_string(got) + " of " + std::to_string(st.size) + " bytes";
+    zip_fclose(file);
+    if (!problem.empty()) throw InputError(where, "zip entry data is truncated or corrupt (" + problem + ")");
+    return bytes;
+}
+
+void write_zip(const std::filesystem::path& path, const std::vector<ZipEntry>& entries) {
+    const std::string where = path.string();
+    std::filesystem::path tmp = path;
+    tmp += ".tmp" + std::to_string(std::random_device{}());
+    int error = 0;
+    zip_t* z = zip_open(tmp.string().c_str(), ZIP_CREATE | ZIP_TRUNCATE, &error);
+    if (!z) throw InputError(where, "cannot create (" + zip_error_text(error) + ")");
+    auto fail = [&](const std::string& why) {
+        zip_discard(z);
+        std::error_code ec;
+        std::filesystem::remove(tmp, ec);
+        throw InputError(where, why);
+    };
+    for (const auto& e : entries) {
+        zip_source_t* src = zip_source_buffer(z, e.bytes.data(), e.bytes.size(), 0);
+        if (!src) fail(std::string("zip: ") + zip_strerror(z));
+        const zip_int64_t i = zip_file_add(z, e.name.c_str(), src, ZIP_FL_ENC_UTF_8 | ZIP_FL_OVERWRITE);
+        if (i < 0) {
+            zip_source_free(src);
+            fail(std::string("zip: ") + zip_strerror(z));
+        }
+        if (zip_set_file_compression(z, zip_uint64_t(i), ZIP_CM_STORE, 0) != 0) fail(std::string("zip: ") + zip_strerror(z));
+    }
+    if (zip_close(z) != 0) fail(std::string("cannot write (") + zip_strerror(z) + ")");
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw InputError(where, "cannot write (" + ec.message() + ")");
+    }
+}
+
+}  // namespace pg::data
