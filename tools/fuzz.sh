@@ -19,7 +19,7 @@ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_CO
 cmake --build build-fuzz --target pg_fuzz_all -j"$(nproc)"
 
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene_ply fuzz_scene_splat fuzz_scene_spz fuzz_cameras_json fuzz_transforms_json
+[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene_ply fuzz_scene_splat fuzz_scene_spz fuzz_scene_sog fuzz_cameras_json fuzz_transforms_json
                                    fuzz_colmap_bin fuzz_colmap_txt fuzz_prompts fuzz_model fuzz_viewer_script fuzz_batch_jobs)
 mal=tests/fixtures/malformed
 seed() {  # target -> seed files
@@ -27,6 +27,7 @@ seed() {  # target -> seed files
     fuzz_scene_ply) ls $mal/scenes/*.ply; find tests/fixtures -name '*.ply' -size -64k ;;
     fuzz_scene_splat) ls $mal/scenes/*.splat 2>/dev/null || true ;;
     fuzz_scene_spz) ls $mal/scenes/*.spz 2>/dev/null || true ;;
+    fuzz_scene_sog) ls $mal/scenes/*.sog tests/fixtures/sog/*.sog 2>/dev/null || true ;;
     fuzz_cameras_json) echo assets/sample/desk_000/cameras.json; ls $mal/cameras/inria_*.json $mal/cameras/json_*.json ;;
     fuzz_transforms_json) ls $mal/cameras/ns_*.json ;;
     fuzz_prompts) echo assets/sample/desk_000/prompts.json; find assets/real -name '*prompts*.json' ;;

@@ -22,6 +22,7 @@ namespace {
 
 struct BenchRenderArgs {
     std::string scene, cameras, views = "0";
+    int lod = 0;
     int width = 0, height = 0, frames = 20, warmup = 3;
     bool json = false;
     DeviceOptions device;
@@ -32,7 +33,7 @@ void run_bench_render(const BenchRenderArgs& a) {
     if (a.frames < 1) throw data::InputError("--frames", "must be at least 1");
     if (a.warmup < 0) throw data::InputError("--warmup", "must not be negative");
     auto t_load = std::chrono::steady_clock::now();
-    auto cloud = load_scene_shown(a.scene);
+    auto cloud = load_scene_shown(a.scene, a.lod);
     auto cameras = data::load_cameras(a.cameras);
     auto views = select_views(a.views, cameras);
     vk::ContextOptions co;
@@ -115,7 +116,7 @@ void register_bench(CLI::App& app, std::function<void()>& run) {
     bench->require_subcommand(1);
     auto a = std::make_shared<BenchRenderArgs>();
     auto* cmd = bench->add_subcommand("render", "Per-pass GPU ms and wall ms per frame (medians)");
-    cmd->add_option("scene", a->scene, "Scene file")->required();
+    add_scene_option(*cmd, a->scene, a->lod);
     cmd->add_option("--cameras", a->cameras, "Camera file or COLMAP folder")->required();
     cmd->add_option("--views", a->views, "Views to cycle through (all, or indices/names)")->capture_default_str();
     cmd->add_option("--width", a->width, "Image width");
@@ -129,6 +130,7 @@ void register_bench(CLI::App& app, std::function<void()>& run) {
     register_bench_segment(*bench, run);
     register_bench_ptv3(*bench, run);
     register_bench_train(*bench, run);
+    register_bench_load(*bench, run);
 }
 
 }  // namespace pg::app

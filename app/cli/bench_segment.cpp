@@ -26,6 +26,7 @@ namespace {
 
 struct BenchSegmentArgs {
     std::string scene, cameras, prompts, mode = "occlusion", label_property = "instance", decoder = "ptv3";
+    int lod = 0;
     int repeats = 5;
     bool json = false, coarse_answer = false;
     DeviceOptions device;
@@ -34,7 +35,7 @@ struct BenchSegmentArgs {
 void run_bench_segment(const BenchSegmentArgs& a) {
     scene_budget(a.device);  // a bad --max-device-memory fails before anything loads
     if (a.repeats < 1) throw data::InputError("--repeats", "must be at least 1");
-    auto cloud = load_scene_shown(a.scene);
+    auto cloud = load_scene_shown(a.scene, a.lod);
     auto cameras = data::load_cameras(a.cameras);
     auto prompts = data::read_prompts(a.prompts);
     // One click of the first object: the interactive unit of work; with a graph decoder the
@@ -183,8 +184,8 @@ void run_bench_segment(const BenchSegmentArgs& a) {
 void register_bench_segment(CLI::App& bench, std::function<void()>& run) {
     auto a = std::make_shared<BenchSegmentArgs>();
     auto* cmd = bench.add_subcommand("segment", "Per-stage ms for one click and for the masks of one view");
-    cmd->add_option("scene", a->scene, "A scene; labelled (the ground-truth decoder stands in for the network) unless --decoder graph")
-        ->required();
+    add_scene_option(*cmd, a->scene, a->lod,
+                     "A scene; labelled (the ground-truth decoder stands in for the network) unless --decoder graph");
     cmd->add_option("--cameras", a->cameras, "Camera file or COLMAP folder")->required();
     cmd->add_option("--prompts", a->prompts, "prompts.json; its first click is measured")->required();
     cmd->add_option("--mode", a->mode, "Label projection: occlusion or paper")->capture_default_str();

@@ -17,13 +17,14 @@ namespace {
 
 struct OrbitArgs {
     std::string scene, out, up = "-y";
+    int lod = 0;
     data::OrbitOptions o;
 };
 
 
 
 void run_orbit(const OrbitArgs& a) {
-    auto cloud = data::load_scene(a.scene);
+    auto cloud = data::load_scene(a.scene, {}, a.lod);
     auto cams = data::orbit_cameras(cloud, parse_up(a.up), a.o);
     if (fs::exists(a.out) && fs::equivalent(a.out, a.scene)) throw data::InputError(a.out, "would overwrite the scene");
     data::write_inria_cameras_json(cams, a.out);
@@ -36,7 +37,7 @@ void run_orbit(const OrbitArgs& a) {
 void register_cameras(CLI::App& app, std::function<void()>& run) {
     auto a = std::make_shared<OrbitArgs>();
     auto* cmd = app.add_subcommand("orbit", "Write an orbit of cameras (INRIA cameras.json) around a scene");
-    cmd->add_option("scene", a->scene, "Scene file")->required();
+    add_scene_option(*cmd, a->scene, a->lod);
     cmd->add_option("--out", a->out, "cameras.json to write")->required();
     cmd->add_option("--up", a->up, "World up: x,y,z or x/-x/y/-y/z/-z (COLMAP scenes are y-down: -y)")
         ->capture_default_str();

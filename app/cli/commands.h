@@ -27,6 +27,9 @@ struct DeviceOptions {
     bool half_sh = false;           // --half-sh
 };
 void add_device_option(CLI::App& cmd, DeviceOptions& opt);
+// The positional scene argument and --lod, for every command that reads a scene.
+void add_scene_option(CLI::App& cmd, std::string& scene, int& lod, const std::string& what = "Scene");
+extern const char* const kSceneFormats;  // "3DGS/2DGS PLY, compressed PLY, .splat, .spz, SOG (...)"
 // --max-device-memory and --half-sh, for commands that put a whole scene on the device.
 void add_memory_option(CLI::App& cmd, DeviceOptions& opt);
 render::SceneBudget scene_budget(const DeviceOptions& opt);
@@ -46,6 +49,7 @@ void register_prompts(CLI::App& app, std::function<void()>& run);
 void register_bench_segment(CLI::App& bench, std::function<void()>& run);
 void register_bench_ptv3(CLI::App& bench, std::function<void()>& run);
 void register_bench_train(CLI::App& bench, std::function<void()>& run);
+void register_bench_load(CLI::App& bench, std::function<void()>& run);
 void register_infer(CLI::App& app, std::function<void()>& run);
 void register_clicks(CLI::App& app, std::function<void()>& run);
 void register_batch(CLI::App& app, std::function<void()>& run);
@@ -71,6 +75,7 @@ std::string with_flags(const std::string& error);
 struct SemanticSegmentArgs {
     std::string scene, cameras, out, model, views = "all", mode = "occlusion", up = "cameras";
     double tile = 0;  // 0: the model's
+    int lod = 0;
     uint64_t seed = 1;
     DeviceOptions device;
 };

@@ -7,6 +7,7 @@
 #include "app/cli/commands.h"
 #include "dataset/formats/camera_io.h"
 #include "dataset/formats/scene_io.h"
+#include "dataset/formats/sog.h"
 #include "dataset/scene_stats.h"
 
 namespace pg::app {
@@ -15,6 +16,7 @@ namespace {
 
 struct InfoArgs {
     std::string scene, cameras;
+    int lod = 0;
 };
 
 void print_percentiles(const char* name, const data::Percentiles& p) {
@@ -25,10 +27,20 @@ void print_percentiles(const char* name, const data::Percentiles& p) {
 }
 
 void run_info(const InfoArgs& a) {
-    auto cloud = data::load_scene(a.scene);
+    auto cloud = data::load_scene(a.scene, {}, a.lod);
     auto s = data::compute_stats(cloud);
     std::printf("scene      %s\n", a.scene.c_str());
     std::printf("format     %s%s\n", data::scene_format_name(s.format), s.flat ? " (2DGS surfels)" : "");
+    if (s.format == data::SceneFormat::Sog) {
+        const auto sog = data::describe_sog(a.scene);
+        std::printf("sog        %s, version %d\n", data::sog_layout_name(sog.layout), sog.version);
+        if (sog.layout == data::SogLayout::Streamed) {
+            std::printf("lod levels %d:", sog.lod_levels);
+            for (size_t l = 0; l < sog.lod_counts.size(); ++l)
+                std::printf(" %zu: %llu%s", l, (unsigned long long)sog.lod_counts[l], int(l) == a.lod ? " (loaded)" : "");
+            std::printf("; environment %llu (drawn at every level)\n", (unsigned long long)sog.environment);
+        }
+    }
     std::printf("gaussians  %zu\n", s.count);
     std::printf("sh degree  %d\n", s.sh_degree);
     std::printf("bounds     x [%.4g, %.4g]  y [%.4g, %.4g]  z [%.4g, %.4g]\n", s.bounds_min.x, s.bounds_max.x,
@@ -72,7 +84,7 @@ void run_info(const InfoArgs& a) {
 void register_info(CLI::App& app, std::function<void()>& run) {
     auto args = std::make_shared<InfoArgs>();
     auto* cmd = app.add_subcommand("info", "Format, Gaussian count, SH degree, bounds, opacity/scale percentiles, cameras");
-    cmd->add_option("scene", args->scene, "Scene file (.ply, .compressed.ply, .splat, .spz)")->required();
+    add_scene_option(*cmd, args->scene, args->lod);
     cmd->add_option("--cameras", args->cameras, "COLMAP model folder, cameras.json or transforms.json");
     cmd->callback([args, &run] { run = [args] { run_info(*args); }; });
 }

@@ -27,6 +27,7 @@ namespace {
 
 struct RenderArgs {
     std::string scene, cameras, out, views = "all", outputs = "rgb", background = "0,0,0";
+    int lod = 0;
     int width = 0, height = 0;
     bool antialiased = false;
     float tau = 0.9f;
@@ -73,7 +74,7 @@ void run_render(const RenderArgs& a) {
     if (!(a.tau > 0.0f && a.tau < 1.0f)) throw data::InputError("--tau", "must be in (0, 1)");
     auto outputs = parse_outputs(a.outputs);
     glm::vec3 background = parse_colour(a.background);
-    auto cloud = load_scene_shown(a.scene);
+    auto cloud = load_scene_shown(a.scene, a.lod);
     auto cameras = data::load_cameras(a.cameras);
     auto views = select_views(a.views, cameras);
 
@@ -152,7 +153,7 @@ void run_render(const RenderArgs& a) {
 void register_render(CLI::App& app, std::function<void()>& run) {
     auto a = std::make_shared<RenderArgs>();
     auto* cmd = app.add_subcommand("render", "Render a scene from its cameras to PNG files named after the cameras");
-    cmd->add_option("scene", a->scene, "Scene file (.ply, .compressed.ply, .splat, .spz)")->required();
+    add_scene_option(*cmd, a->scene, a->lod);
     cmd->add_option("--cameras", a->cameras, "COLMAP model folder, cameras.json or transforms.json")->required();
     cmd->add_option("--out", a->out, "Output folder")->required();
     cmd->add_option("--views", a->views, "all, or a comma list of camera indices or names")->capture_default_str();

@@ -30,6 +30,7 @@ namespace {
 
 struct SegmentArgs {
     std::string scene, cameras, prompts, out, model, views = "all", mode = "occlusion", up = "cameras";
+    int lod = 0;
     std::string roi, label_property = "instance", decoder;  // empty: graph, or ptv3+graph when --model is given
     std::string solver = "walk+forest", lift = "surface", preconditioner = "multigrid";
     double sigma = 0, scale = 0;
@@ -87,7 +88,7 @@ void run_segment(const SegmentArgs& args) {
     if (network && !ground_truth && !fs::exists(a.model))
         throw data::InputError("--model", "'" + a.model + "' is neither ground-truth nor an existing model file");
     auto mode = seg::parse_label_mode(a.mode);
-    auto cloud = load_scene_shown(a.scene);
+    auto cloud = load_scene_shown(a.scene, a.lod);
     auto cameras = data::load_cameras(a.cameras);
     auto prompts = data::read_prompts(a.prompts);
     std::vector<size_t> views;
@@ -146,6 +147,7 @@ void run_segment(const SegmentArgs& args) {
 
     nlohmann::json report;
     report["scene"] = a.scene;
+    if (a.lod) report["lod"] = a.lod;
     report["device"] = ctx.info().name;
     report["decoder"] = std::string(seg::graph_use_name(graph_use)) +
                         (decoder ? " (" + decoder->name() + ")" : std::string());
@@ -220,7 +222,7 @@ void run_segment(const SegmentArgs& args) {
 void register_segment(CLI::App& app, std::function<void()>& run) {
     auto a = std::make_shared<SegmentArgs>();
     auto* cmd = app.add_subcommand("segment", "Segment objects from clicks: 3D labels, object PLYs, per-view masks");
-    cmd->add_option("scene", a->scene, "Scene file")->required();
+    add_scene_option(*cmd, a->scene, a->lod);
     cmd->add_option("--cameras", a->cameras, "Camera file or COLMAP folder")->required();
     cmd->add_option("--prompts", a->prompts, "prompts.json: objects and their clicks (required unless --semantic)");
     cmd->add_flag("--semantic", a->semantic, "No clicks: label every Gaussian by class with the semantic model (default: the shipped assets/models/semantic.safetensors; ground-truth reads the scene's 'class' property, an evaluation tool)");
@@ -277,7 +279,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
             if (!click_flag.empty()) throw data::InputError(click_flag, "applies to clicks, not to --semantic");
             SemanticSegmentArgs s;
             s.scene = a->scene, s.cameras = a->cameras, s.out = a->out, s.model = a->model, s.views = a->views;
-            s.mode = a->mode, s.up = a->up, s.tile = a->tile, s.seed = a->seed, s.device = a->device;
+            s.mode = a->mode, s.up = a->up, s.tile = a->tile, s.seed = a->seed, s.device = a->device, s.lod = a->lod;
             run_segment_semantic(s);
         };
     });

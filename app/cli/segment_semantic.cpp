@@ -53,7 +53,7 @@ void run_segment_semantic(const SemanticSegmentArgs& a) {
     if (!ground_truth && !fs::exists(model)) throw data::InputError("--model", "'" + model + "' does not exist");
     if (a.tile < 0) throw data::InputError("--tile", "must be positive (0: the model's)");
     const auto mode = seg::parse_label_mode(a.mode);
-    auto cloud = load_scene_shown(a.scene);
+    auto cloud = load_scene_shown(a.scene, a.lod);
     auto cameras = data::load_cameras(a.cameras);
     std::vector<size_t> views;
     if (a.views != "none") views = select_views(a.views, cameras);

@@ -11,6 +11,15 @@ void add_device_option(CLI::App& cmd, DeviceOptions& opt) {
     cmd.add_option("--device", opt.device, "Vulkan device name (substring); default: PG_DEVICE, else the best GPU");
 }
 
+const char* const kSceneFormats =
+    "3DGS/2DGS PLY, compressed PLY, .splat, .spz, or PlayCanvas SOG: .sog, meta.json or its folder, lod-meta.json";
+
+void add_scene_option(CLI::App& cmd, std::string& scene, int& lod, const std::string& what) {
+    cmd.add_option("scene", scene, what + ": " + kSceneFormats)->required();
+    cmd.add_option("--lod", lod, "Level of a streamed SOG (lod-meta.json) to load: 0, the finest (default), or coarser")
+        ->check(CLI::NonNegativeNumber);
+}
+
 void add_memory_option(CLI::App& cmd, DeviceOptions& opt) {
     cmd.add_option("--max-device-memory", opt.max_device_memory,
                    "Device memory the scene may use (e.g. 512M, 2G); a scene past it, or past the device's "

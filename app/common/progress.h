@@ -40,9 +40,10 @@ private:
 };
 
 // load_scene with a percentage line on a terminal (a 6 M-Gaussian PLY takes ~15 s on 2 cores).
-inline data::GaussianCloud load_scene_shown(const std::string& path) {
+// `lod` picks a level of a streamed SOG (--lod).
+inline data::GaussianCloud load_scene_shown(const std::string& path, int lod = 0) {
     Progress progress("loading " + path, 100);
-    return data::load_scene(path, [&](double f) { progress.set(size_t(f * 100.0), "%"); });
+    return data::load_scene(path, [&](double f) { progress.set(size_t(f * 100.0), "%"); }, lod);
 }
 
 }  // namespace pg::app

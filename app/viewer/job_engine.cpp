@@ -152,7 +152,8 @@ void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::a
     std::snprintf(up_arg, sizeof up_arg, "%.17g,%.17g,%.17g", up.x, up.y, up.z);
     const std::string cameras = scene_.cameras_path.empty() ? (out / "cameras.json").string() : scene_.cameras_path;
     std::ostringstream replay;
-    replay << "pointgauss segment " << scene_.scene_path << " --cameras " << cameras << " --prompts "
+    replay << "pointgauss segment " << scene_.scene_path << (scene_.lod ? " --lod " + std::to_string(scene_.lod) : "")
+           << " --cameras " << cameras << " --prompts "
            << (out / "prompts.json").string() << " --up " << up_arg << " --lift " << seg::lift_rule_name(scene_.options.lift);
     if (rq.decoder == "ground-truth") replay << " --model ground-truth --decoder ptv3";
     else if (rq.decoder == "graph") replay << " --decoder graph";

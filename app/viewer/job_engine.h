@@ -23,6 +23,7 @@ namespace pg::viewer {
 
 struct SceneData {
     std::string scene_path, cameras_path;  // cameras_path empty: cameras were generated
+    int lod = 0;                           // the streamed-SOG level scene_path was loaded at
     data::GaussianCloud cloud;
     std::vector<data::Camera> cameras;
     seg::SegmentOptions options;           // up, scale, seed: as `segment` would use them

@@ -12,7 +12,12 @@ int main(int argc, char** argv) {
     pg::data::remove_partial_files_on_signals();
     pg::viewer::ViewerOptions o;
     CLI::App app{"PointGauss viewer: click objects in a 3DGS scene to segment them"};
-    app.add_option("scene", o.scene, "Scene file (3DGS/2DGS PLY, compressed PLY, .splat, .spz)")->required();
+    app.add_option("scene", o.scene,
+                   "Scene file: 3DGS/2DGS PLY, compressed PLY, .splat, .spz, or PlayCanvas SOG (.sog, meta.json or "
+                   "its folder, lod-meta.json)")
+        ->required();
+    app.add_option("--lod", o.lod, "Level of a streamed SOG (lod-meta.json): 0, the finest (default), or coarser")
+        ->check(CLI::NonNegativeNumber);
     app.add_option("--cameras", o.cameras,
                    "Camera file or COLMAP folder (default: cameras.json, transforms.json or sparse/0 beside the "
                    "scene; none: an orbit is made)");

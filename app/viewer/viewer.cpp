@@ -158,7 +158,8 @@ void Viewer::load_in_window(const ViewerOptions& o) {
 
 void Viewer::load(const ViewerOptions& o, const data::LoadProgress& progress) {
     scene_.scene_path = o.scene;
-    scene_.cloud = data::load_scene(o.scene, progress);
+    scene_.lod = o.lod;
+    scene_.cloud = data::load_scene(o.scene, progress, o.lod);
     if (scene_.cloud.size() == 0) throw data::InputError(o.scene, "holds no Gaussians");
     scene_.cameras_path = o.cameras.empty() ? cameras_beside(o.scene) : o.cameras;
     if (!scene_.cameras_path.empty()) scene_.cameras = data::load_cameras(scene_.cameras_path);

@@ -29,6 +29,7 @@ class ScriptRunner;
 struct ViewerOptions {
     std::string scene, cameras, model, semantic_model, decoder, up = "auto", device, script, script_log, screenshot, out, prompts;
     std::string lift = "surface";
+    int lod = 0;                    // level of a streamed SOG
     std::string max_device_memory;  // a scene past it (or past the device's largest binding) is streamed
     bool half_sh = false;
     int width = 1400, height = 860;

@@ -1,5 +1,5 @@
 // Scene readers: chosen by content as `load_scene` does, under the extension PG_FUZZ_EXT
-// (.ply: INRIA, 2DGS, PlayCanvas compressed; .splat; .spz).
+// (.ply: INRIA, 2DGS, PlayCanvas compressed; .splat; .spz; .sog: a bundled SOG, zip + WebP).
 #include "dataset/formats/scene_io.h"
 #include "tests/fuzz/fuzz_input.h"
 
