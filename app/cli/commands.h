@@ -38,6 +38,7 @@ render::GpuScene upload_scene(vk::Context& ctx, const data::GaussianCloud& cloud
 
 void register_info(CLI::App& app, std::function<void()>& run);
 void register_render(CLI::App& app, std::function<void()>& run);
+void register_convert(CLI::App& app, std::function<void()>& run);
 void register_bench(CLI::App& app, std::function<void()>& run);
 void register_cameras(CLI::App& app, std::function<void()>& run);
 void register_eval(CLI::App& app, std::function<void()>& run);
@@ -76,6 +77,7 @@ struct SemanticSegmentArgs {
     std::string scene, cameras, out, model, views = "all", mode = "occlusion", up = "cameras";
     double tile = 0;  // 0: the model's
     int lod = 0;
+    std::string export_format = "ply";
     uint64_t seed = 1;
     DeviceOptions device;
 };

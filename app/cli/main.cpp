@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     std::function<void()> run;
     pg::app::register_info(app, run);
     pg::app::register_render(app, run);
+    pg::app::register_convert(app, run);
     pg::app::register_bench(app, run);
     pg::app::register_cameras(app, run);
     pg::app::register_synth(app, run);

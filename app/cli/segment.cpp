@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
+#include "app/cli/export_format.h"
 #include "app/common/progress.h"
 #include "app/common/ptv3_decoder.h"
 #include "app/common/staged_output.h"
@@ -31,6 +32,7 @@ namespace {
 struct SegmentArgs {
     std::string scene, cameras, prompts, out, model, views = "all", mode = "occlusion", up = "cameras";
     int lod = 0;
+    std::string export_format = "ply";
     std::string roi, label_property = "instance", decoder;  // empty: graph, or ptv3+graph when --model is given
     std::string solver = "walk+forest", lift = "surface", preconditioner = "multigrid";
     double sigma = 0, scale = 0;
@@ -119,7 +121,8 @@ void run_segment(const SegmentArgs& args) {
                                             "' for the ground-truth decoder");
 
     fs::path out(a.out);
-    for (const char* f : {"scene.ply", "report.json"}) seg::refuse_overwriting(out / f, {a.scene, a.cameras, a.prompts});
+    for (const std::string& f : {scene_file_for(a.export_format), std::string("report.json")})
+        seg::refuse_overwriting(out / f, {a.scene, a.cameras, a.prompts});
     StagedOutput staged(out);  // every output appears at the end, or none
     const fs::path& stage = staged.dir();
 
@@ -176,13 +179,12 @@ void run_segment(const SegmentArgs& args) {
         report["objects"].push_back(jo);
     }
 
-    // 3D outputs: the scene with the labels, one standard 3DGS PLY per object.
+    // 3D outputs: the scene with the labels, one standard 3DGS file per object.
     auto t0 = std::chrono::steady_clock::now();
-    seg::write_labelled_scene(cloud, result.labels, stage / "scene.ply");
     std::vector<seg::ExportObject> objects;
     for (auto& obj : result.objects)
         if (obj.error.empty()) objects.push_back({obj.id, obj.name});
-    seg::write_object_plys(cloud, result.labels, objects, stage / "objects");
+    write_3d_outputs(ctx, a.export_format, cloud, result.labels, "instance", objects, stage, "objects");
     result.stage_ms["write 3D"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
     // 2D outputs: label rasterization and refinement on the GPU for every chosen view.
@@ -223,6 +225,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     auto a = std::make_shared<SegmentArgs>();
     auto* cmd = app.add_subcommand("segment", "Segment objects from clicks: 3D labels, object PLYs, per-view masks");
     add_scene_option(*cmd, a->scene, a->lod);
+    add_export_format_option(*cmd, a->export_format);
     cmd->add_option("--cameras", a->cameras, "Camera file or COLMAP folder")->required();
     cmd->add_option("--prompts", a->prompts, "prompts.json: objects and their clicks (required unless --semantic)");
     cmd->add_flag("--semantic", a->semantic, "No clicks: label every Gaussian by class with the semantic model (default: the shipped assets/models/semantic.safetensors; ground-truth reads the scene's 'class' property, an evaluation tool)");
@@ -280,6 +283,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
             SemanticSegmentArgs s;
             s.scene = a->scene, s.cameras = a->cameras, s.out = a->out, s.model = a->model, s.views = a->views;
             s.mode = a->mode, s.up = a->up, s.tile = a->tile, s.seed = a->seed, s.device = a->device, s.lod = a->lod;
+            s.export_format = a->export_format;
             run_segment_semantic(s);
         };
     });

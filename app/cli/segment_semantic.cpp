@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
+#include "app/cli/export_format.h"
 #include "app/common/progress.h"
 #include "app/common/ptv3_classifier.h"
 #include "app/common/staged_output.h"
@@ -59,7 +60,8 @@ void run_segment_semantic(const SemanticSegmentArgs& a) {
     if (a.views != "none") views = select_views(a.views, cameras);
 
     const fs::path out(a.out);
-    for (const char* f : {"scene.ply", "report.json"}) seg::refuse_overwriting(out / f, {a.scene, a.cameras, model});
+    for (const std::string& f : {scene_file_for(a.export_format), std::string("report.json")})
+        seg::refuse_overwriting(out / f, {a.scene, a.cameras, model});
 
     vk::ContextOptions co;
     co.device = a.device.device;
@@ -114,10 +116,9 @@ void run_segment_semantic(const SemanticSegmentArgs& a) {
         if (labels.class_counts[size_t(c)]) present.push_back({c, class_name(c)});
     }
 
-    // 3D: the scene with its classes, one standard 3DGS PLY per class present.
+    // 3D: the scene with its classes, one standard 3DGS file per class present.
     auto t0 = std::chrono::steady_clock::now();
-    seg::write_labelled_scene(cloud, labels.classes, stage / "scene.ply", "class");
-    seg::write_object_plys(cloud, labels.classes, present, stage / "classes");
+    write_3d_outputs(ctx, a.export_format, cloud, labels.classes, "class", present, stage, "classes");
     stage_ms["write 3D"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
     // 2D: class masks (class ids; class 0 is also "nothing labelled") and tinted overlays with a legend.

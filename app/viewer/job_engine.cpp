@@ -12,6 +12,8 @@
 #include "dataset/error.h"
 #include "dataset/formats/camera_io.h"
 #include "dataset/formats/scene_io.h"
+#include "dataset/formats/sog_writer.h"
+#include "engine/compress/sog_quantizer.h"
 #include "engine/segment/export.h"
 #include "engine/segment/prompt_encoder.h"
 #include "engine/vk/context.h"
@@ -112,7 +114,15 @@ void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::a
         objects.push_back({o.id, o.name});
         colours[o.id] = o.colour;
     }
-    if (rq.scene) {
+    const bool sog = rq.format == "sog";
+    data::SogQuantizer quantizer;
+    if (sog) quantizer = compress::gpu_sog_quantizer(ctx_);
+    auto write_sog = [&](const data::GaussianCloud& c, const fs::path& p) { data::write_sog(c, p, quantizer); };
+    if (rq.scene && sog) {
+        // SOG holds no labels: the scene as it was loaded, for the web viewers.
+        seg::refuse_overwriting(out / "scene.sog", inputs);
+        write_sog(scene_.cloud, out / "scene.sog");
+    } else if (rq.scene) {
         seg::refuse_overwriting(out / "scene.ply", inputs);
         if (rq.classes && objects_labelled) {
             // Both properties in one file (one copy of the scene, not write_labelled_scene's two):
@@ -127,7 +137,9 @@ void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::a
             seg::write_labelled_scene(scene_.cloud, labels, out / "scene.ply");
         }
     }
-    if (rq.objects && objects_labelled) seg::write_object_plys(scene_.cloud, labels, objects, out / "objects");
+    if (rq.objects && objects_labelled)
+        seg::write_object_files(scene_.cloud, labels, objects, out / "objects", sog ? seg::CloudWriter(write_sog) : nullptr,
+                                sog ? ".sog" : ".ply");
     if (rq.prompts) {
         data::write_prompts(rq.prompts_json, out / "prompts.json");
         if (scene_.cameras_path.empty()) data::write_inria_cameras_json(scene_.cameras, out / "cameras.json");

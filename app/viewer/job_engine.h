@@ -41,6 +41,7 @@ struct ExportRequest {
     std::string decoder;
     std::map<std::string, double> stage_ms;
     std::shared_ptr<const ClassLabels> classes;  // written as the scene's `class` property (may be null)
+    std::string format = "ply";                  // ply, or sog: scene.sog (no labels) and objects/NAME.sog
 };
 
 class JobEngine {

@@ -198,11 +198,15 @@ void Viewer::draw_export_panel() {
         panel_.folder_set = true;
         ImGui::SetNextItemWidth(250);
         if (ImGui::InputText("folder", panel_.folder, sizeof panel_.folder)) export_folder_ = panel_.folder;
+        // SOG (PlayCanvas, for the web viewers) holds no labels: the scene file is the scene alone.
+        ImGui::RadioButton("PLY", &panel_.format, 0);
+        ImGui::SameLine();
+        ImGui::RadioButton("SOG (scene and objects)", &panel_.format, 1);
         const bool running = export_ && export_->running;
         ImGui::BeginDisabled(running || (!session_.labels() && !classes_));
         if (ImGui::Button("Everything")) export_to(export_folder_, true, true, true, true);
         ImGui::SameLine();
-        if (ImGui::Button("Scene PLY")) export_to(export_folder_, true, false, false, false);
+        if (ImGui::Button(panel_.format == 1 ? "Scene SOG" : "Scene PLY")) export_to(export_folder_, true, false, false, false);
         ImGui::SameLine();
         if (ImGui::Button("Objects")) export_to(export_folder_, false, true, false, false);
         if (ImGui::Button("Masks + overlays")) export_to(export_folder_, false, false, true, false);

@@ -72,8 +72,9 @@ std::vector<Action> read_script(const std::filesystem::path& path) {
             need(v.is_string() || v.is_number_integer() || numbers(v, 2), where,
                  "'object_from_class' expects a class name or id, or a point [x, y] of the picture");
         else if (k == "export")
-            need(v.is_string() || (v.is_object() && v.contains("folder") && v["folder"].is_string()), where,
-                 "'export' expects a folder or {\"folder\": ...}");
+            need(v.is_string() || (v.is_object() && v.contains("folder") && v["folder"].is_string() &&
+                                   (!v.contains("format") || v["format"] == "ply" || v["format"] == "sog")),
+                 where, "'export' expects a folder or {\"folder\": ..., \"format\": \"ply\" or \"sog\"}");
         else
             need(v.is_boolean(), where, "'" + k + "' expects true or false");
         actions.push_back(std::move(act));

@@ -125,7 +125,7 @@ void ScriptRunner::run(Viewer& viewer, const Action& a) {
             viewer.export_to(v.get<std::string>(), true, true, true, true);
         } else {
             viewer.export_to(v["folder"].get<std::string>(), v.value("scene", true), v.value("objects", true),
-                             v.value("masks", true), v.value("prompts", true));
+                             v.value("masks", true), v.value("prompts", true), v.value("format", std::string("ply")));
         }
     } else if (k == "screenshot") {
         if (!a.extra.value("view", false)) return viewer.save_window(v.get<std::string>());

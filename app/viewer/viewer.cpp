@@ -372,7 +372,8 @@ void Viewer::click_at(double x, double y, bool positive) {
     });
 }
 
-void Viewer::export_to(const std::string& folder, bool scene, bool objects, bool masks, bool prompts) {
+void Viewer::export_to(const std::string& folder, bool scene, bool objects, bool masks, bool prompts,
+                       const std::string& format) {
     if (export_ && export_->running) {
         status("an export is already running", true);
         return;
@@ -393,6 +394,11 @@ void Viewer::export_to(const std::string& folder, bool scene, bool objects, bool
     rq.decoder = decoder_;
     rq.stage_ms = segment_ms_;
     rq.classes = classes_;
+    rq.format = !format.empty() ? format : panel_.format == 1 ? "sog" : "ply";
+    if (rq.format != "ply" && rq.format != "sog") {
+        status("export format '" + rq.format + "': expected ply or sog", true);
+        return;
+    }
     export_ = std::make_shared<ExportProgress>();
     export_->running = true;
     auto progress = export_;

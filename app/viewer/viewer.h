@@ -57,7 +57,9 @@ public:
     void show_tints(bool on) { show_tints_ = on; }
     void isolate(bool on) { isolate_ = on; }
     void set_render_scale(double scale) { render_scale_ = scale; }
-    void export_to(const std::string& folder, bool scene, bool objects, bool masks, bool prompts);
+    // `format`: ply or sog; empty: the Export panel's choice.
+    void export_to(const std::string& folder, bool scene, bool objects, bool masks, bool prompts,
+                   const std::string& format = "");
     // Label by class (classes.cpp): every Gaussian's class from the semantic model (`model`, else
     // --semantic-model or the shipped one), on the job thread; the result replaces any earlier.
     void label_by_class(const std::string& model = {});
@@ -178,6 +180,7 @@ private:
         bool editing_colour = false;
         char folder[512] = {};
         bool folder_set = false;
+        int format = 0;  // 0: PLY, 1: SOG
     } panel_;
 
     std::unique_ptr<ScriptRunner> script_;  // --script or --screenshot: replay, capture, quit

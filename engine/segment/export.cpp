@@ -32,8 +32,9 @@ void write_labelled_scene(const data::GaussianCloud& cloud, const std::vector<in
     data::write_ply(labelled, file);
 }
 
-std::vector<fs::path> write_object_plys(const data::GaussianCloud& cloud, const std::vector<int32_t>& labels,
-                                        const std::vector<ExportObject>& objects, const fs::path& folder) {
+std::vector<fs::path> write_object_files(const data::GaussianCloud& cloud, const std::vector<int32_t>& labels,
+                                         const std::vector<ExportObject>& objects, const fs::path& folder,
+                                         const CloudWriter& write, const std::string& extension) {
     fs::create_directories(folder);
     std::multiset<std::string> names;
     for (auto& o : objects) names.insert(safe_file_name(o.name));
@@ -44,8 +45,10 @@ std::vector<fs::path> write_object_plys(const data::GaussianCloud& cloud, const 
         std::vector<uint32_t> idx;
         for (uint32_t i = 0; i < labels.size(); ++i)
             if (labels[i] == o.id) idx.push_back(i);
-        paths.push_back(folder / (stem + ".ply"));
-        data::write_ply(data::select_gaussians(cloud, idx), paths.back());
+        paths.push_back(folder / (stem + extension));
+        const data::GaussianCloud object = data::select_gaussians(cloud, idx);
+        if (write) write(object, paths.back());
+        else data::write_ply(object, paths.back());
     }
     return paths;
 }

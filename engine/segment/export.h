@@ -31,11 +31,17 @@ void refuse_overwriting(const std::filesystem::path& file, const std::vector<std
 void write_labelled_scene(const data::GaussianCloud& cloud, const std::vector<int32_t>& labels,
                           const std::filesystem::path& file, const std::string& property = "instance");
 
-// folder/<name>.ply per object (name_<id>.ply where two objects share a name); returns the paths.
-std::vector<std::filesystem::path> write_object_plys(const data::GaussianCloud& cloud,
-                                                     const std::vector<int32_t>& labels,
-                                                     const std::vector<ExportObject>& objects,
-                                                     const std::filesystem::path& folder);
+// Writes a cloud to a file of one format (write_ply by default; write_sog through the GPU
+// clustering for SOG, see engine/compress/sog_quantizer.h).
+using CloudWriter = std::function<void(const data::GaussianCloud&, const std::filesystem::path&)>;
+
+// folder/<name><extension> per object (name_<id> where two objects share a name), written by
+// `write` (a PLY when empty); returns the paths.
+std::vector<std::filesystem::path> write_object_files(const data::GaussianCloud& cloud,
+                                                      const std::vector<int32_t>& labels,
+                                                      const std::vector<ExportObject>& objects,
+                                                      const std::filesystem::path& folder, const CloudWriter& write = {},
+                                                      const std::string& extension = ".ply");
 
 struct ViewExportOptions {
     MaskViewsOptions masks;

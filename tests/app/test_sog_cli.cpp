@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "dataset/atomic_file.h"
+#include "dataset/formats/scene_io.h"
 #include "tests/app/cli_run.h"
 #include "tests/test_paths.h"
 
@@ -52,4 +53,42 @@ TEST_CASE("sog cli: --lod picks a streamed scene's level; a level it lacks is on
     r = run("info " + sog("streamed") + " --lod -1");
     CHECK(r.code != 0);
     CHECK(r.out.find("--lod") != std::string::npos);
+}
+
+TEST_CASE("sog cli: segment --export-format sog writes scene.sog and one SOG per object, as the PLY export's") {
+    const auto dir = pg::test::scratch("cli-sog-segment");
+    fs::remove_all(dir);
+    auto r = run("synth --suite desk --scenes 1 --seed 31 --density 0.03 --sh-degree 1 --cameras 4 --previews 1 --out " +
+                 (dir / "suite").string());
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    const std::string scene = (dir / "suite" / "desk_000").string();
+    r = run("prompts " + scene + " --out " + (dir / "prompts.json").string());
+    REQUIRE(r.code == 0);
+    for (const char* format : {"ply", "sog"}) {
+        r = run("segment " + scene + "/scene.ply --cameras " + scene + "/cameras.json --prompts " +
+                (dir / "prompts.json").string() + " --model ground-truth --decoder ptv3 --views none --export-format " +
+                format + " --out " + (dir / format).string());
+        INFO(r.out);
+        REQUIRE(r.code == 0);
+    }
+    CHECK_FALSE(fs::exists(dir / "sog" / "scene.ply"));
+    const auto original = pg::data::load_scene(scene + "/scene.ply");
+    const auto whole = pg::data::load_scene(dir / "sog" / "scene.sog");
+    CHECK(whole.size() == original.size());
+    CHECK(whole.sh_degree == 1);
+    size_t objects = 0;
+    for (const auto& e : fs::directory_iterator(dir / "ply" / "objects")) {
+        const fs::path sog_file = dir / "sog" / "objects" / e.path().filename().replace_extension(".sog");
+        INFO(sog_file);
+        REQUIRE(fs::exists(sog_file));
+        CHECK(pg::data::load_scene(sog_file).size() == pg::data::load_scene(e.path()).size());
+        ++objects;
+    }
+    CHECK(objects >= 3);
+    r = run("segment " + scene + "/scene.ply --cameras " + scene + "/cameras.json --prompts " + (dir / "prompts.json").string() +
+            " --model ground-truth --views none --export-format gltf --out " + (dir / "bad").string());
+    CHECK(r.code == 1);
+    CHECK(r.out.find("--export-format: expected ply or sog, got 'gltf'") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "bad"));
 }

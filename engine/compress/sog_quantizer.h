@@ -1,0 +1,14 @@
+#pragma once
+// The SOG writer's clustering on the GPU: codebooks and the SH palette through kmeans.h.
+#include <cstdint>
+
+#include "dataset/formats/sog_writer.h"
+#include "engine/vk/context.h"
+
+namespace pg::compress {
+
+// `iterations` Lloyd steps for the SH palette (splat-transform's default, 10) and for the 1-D
+// codebooks; `seed` picks the palette's first centroids, so a scene gives the same file each time.
+data::SogQuantizer gpu_sog_quantizer(vk::Context& ctx, int iterations = 10, uint64_t seed = 1);
+
+}  // namespace pg::compress
