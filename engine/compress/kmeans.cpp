@@ -1,11 +1,13 @@
 #include "engine/compress/kmeans.h"
 
 #include <algorithm>
+#include <memory>
 #include <numeric>
 #include <random>
 #include <stdexcept>
 #include <string>
 
+#include "engine/sort/radix_sort.h"
 #include "engine/vk/buffer.h"
 #include "engine/vk/commands.h"
 
@@ -16,6 +18,18 @@ namespace {
 struct AssignPush {
     uint32_t n, k, dims;
 };
+struct CountPush {
+    uint32_t n;
+};
+struct UpdatePush {
+    uint32_t k, dims;
+};
+
+uint32_t bits_for(size_t k) {
+    uint32_t b = 1;
+    while ((size_t(1) << b) < k) ++b;
+    return b;
+}
 
 // Runs the Lloyd steps from `centroids`; the points stay on the device throughout.
 Clusters lloyd(vk::Context& ctx, const std::vector<float>& points, size_t dims, std::vector<float> centroids,
@@ -28,13 +42,29 @@ Clusters lloyd(vk::Context& ctx, const std::vector<float>& points, size_t dims, 
                                  " floats pass the device's largest binding (" + std::to_string(range) + " bytes)");
     // Windows of points whose floats and labels each fit one binding, at a 256-byte aligned offset.
     const size_t window = std::max<size_t>(64, size_t(range / point_bytes) / 64 * 64);
+    // The update runs on the device when the points fit one binding (the members of a cluster are
+    // anywhere among them); past that, on the host.
+    const bool device_means = VkDeviceSize(n) * point_bytes <= range;
     vk::Buffer pts = vk::upload_vector(ctx, points, "kmeans points");
     vk::Buffer cen(ctx, std::max<VkDeviceSize>(16, k * point_bytes), vk::MemoryUse::Device, "kmeans centroids");
-    vk::Buffer lab(ctx, std::max<VkDeviceSize>(16, n * sizeof(uint32_t)), vk::MemoryUse::Device, "kmeans labels");
+    const VkDeviceSize label_bytes = std::max<VkDeviceSize>(16, n * sizeof(uint32_t));
+    vk::Buffer lab(ctx, label_bytes, vk::MemoryUse::Device, "kmeans labels");
+    vk::Buffer keys, members, order, start, end;
+    std::unique_ptr<sort::RadixSort> sorter;
+    if (device_means && iterations > 0) {
+        std::vector<uint32_t> iota(n);
+        std::iota(iota.begin(), iota.end(), 0u);
+        order = vk::upload_vector(ctx, iota, "kmeans order");
+        keys = vk::Buffer(ctx, label_bytes, vk::MemoryUse::Device, "kmeans keys");
+        members = vk::Buffer(ctx, label_bytes, vk::MemoryUse::Device, "kmeans members");
+        start = vk::Buffer(ctx, std::max<VkDeviceSize>(16, k * sizeof(uint32_t)), vk::MemoryUse::Device, "kmeans start");
+        end = vk::Buffer(ctx, std::max<VkDeviceSize>(16, k * sizeof(uint32_t)), vk::MemoryUse::Device, "kmeans end");
+        sorter = std::make_unique<sort::RadixSort>(ctx);
+    }
     vk::CommandList cmd(ctx);
     Clusters out;
+    vk::upload(ctx, cen, centroids.data(), centroids.size() * sizeof(float));
     for (int step = 0;; ++step) {
-        vk::upload(ctx, cen, centroids.data(), centroids.size() * sizeof(float));
         for (size_t first = 0; first < n; first += window) {
             const size_t count = std::min(window, n - first);
             const AssignPush push{uint32_t(count), uint32_t(k), uint32_t(dims)};
@@ -43,12 +73,26 @@ Clusters lloyd(vk::Context& ctx, const std::vector<float>& points, size_t dims, 
                           vk::BufferRange(lab, first * sizeof(uint32_t), count * sizeof(uint32_t))},
                          push, vk::ceil_div(count, 64));
         }
-        cmd.submit_and_wait();
-        out.labels = vk::download_vector<uint32_t>(ctx, lab, n);
         if (step == iterations) break;
-        move_centroids(points, dims, out.labels, centroids);
+        if (device_means) {
+            // Members of each cluster in point order (a stable sort by label), their runs, the means.
+            cmd.copy(lab, keys, n * sizeof(uint32_t));
+            cmd.copy(order, members, n * sizeof(uint32_t));
+            sorter->sort(cmd, keys, members, uint32_t(n), bits_for(k), sort::KeyWidth::Bits32);
+            cmd.fill(start, 0);
+            cmd.fill(end, 0);
+            cmd.dispatch("compress/kmeans_bounds", {keys, start, end}, CountPush{uint32_t(n)}, vk::ceil_div(n, 256));
+            cmd.dispatch("compress/kmeans_update", {pts, members, start, end, cen}, UpdatePush{uint32_t(k), uint32_t(dims)},
+                         vk::ceil_div(k * dims, 64));
+        } else {
+            cmd.submit_and_wait();
+            move_centroids(points, dims, vk::download_vector<uint32_t>(ctx, lab, n), centroids);
+            vk::upload(ctx, cen, centroids.data(), centroids.size() * sizeof(float));
+        }
     }
-    out.centroids = std::move(centroids);
+    cmd.submit_and_wait();
+    out.labels = vk::download_vector<uint32_t>(ctx, lab, n);
+    out.centroids = vk::download_vector<float>(ctx, cen, k * dims);
     return out;
 }
 

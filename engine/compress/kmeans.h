@@ -1,10 +1,12 @@
 #pragma once
 // k-means on the GPU, for the SOG writer's SH palette (up to 65536 centroids of 9-45 floats) and
-// its 256-entry codebooks. Each Lloyd step assigns every point its nearest centroid in a compute
-// pass (compress/kmeans_assign: n * k * dims, the whole cost), then moves each centroid to the
-// mean of its points on the host in double precision, in point order (n * dims adds), so the
-// result is the same bytes on every run. Points are uploaded once and assigned in windows, so
-// any count fits the device's largest binding.
+// its 256-entry codebooks. A Lloyd step is compute passes: compress/kmeans_assign gives every
+// point its nearest centroid (n * k * dims, the whole cost; centroids tiled through shared
+// memory, points in windows so any count fits the largest binding); a stable radix sort by label
+// lists each cluster's members in point order, compress/kmeans_bounds finds their runs and
+// compress/kmeans_update takes the means with compensated sums. No atomics and a fixed order:
+// the same input and seed give the same bytes on every run. When the points pass one binding
+// (millions at SH 3 on lavapipe) the means are taken on the host instead (move_centroids).
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -31,8 +33,8 @@ Clusters kmeans(vk::Context& ctx, const std::vector<float>& points, size_t dims,
 // mean-squared-error quantiser puts its levels (density ∝ p^(1/3)); labels index the codebook.
 Clusters codebook_1d(vk::Context& ctx, const std::vector<float>& values, size_t k, int iterations);
 
-// The host half of a Lloyd step, shared with the tests' reference: each centroid becomes the
-// mean (in double) of its points; an empty cluster keeps its centroid.
+// A Lloyd step's update on the host (the fallback above, and the tests' reference): each centroid
+// becomes the mean (in double) of its points; an empty cluster keeps its centroid.
 void move_centroids(const std::vector<float>& points, size_t dims, const std::vector<uint32_t>& labels,
                     std::vector<float>& centroids);
 

@@ -33,27 +33,29 @@ TEST_CASE("kmeans: the GPU assignment and Lloyd steps match the CPU reference") 
         INFO("dims " << dims);
         const size_t n = 3000, k = 40;
         const auto points = blobs(n, dims, 25, dims);
-        const auto gpu = pg::compress::kmeans(ctx, points, dims, k, 4, 7);
-        REQUIRE(gpu.centroids.size() == k * dims);
-        REQUIRE(gpu.labels.size() == n);
-        // The labels are the nearest of the returned centroids.
-        CHECK(gpu.labels == pg::ref::nearest_centroids(points, gpu.centroids, dims));
-        // The same steps on the CPU: start from the same picks (iterations 0 gives the start).
+        // One step against the CPU's step from the same start (iterations 0 gives the start): the
+        // same labels, means within float rounding (the GPU sums in float with compensation).
         const auto start = pg::compress::kmeans(ctx, points, dims, k, 0, 7);
+        CHECK(start.labels == pg::ref::nearest_centroids(points, start.centroids, dims));
+        const auto one = pg::compress::kmeans(ctx, points, dims, k, 1, 7);
         std::vector<float> centroids = start.centroids;
-        std::vector<uint32_t> labels;
-        for (int s = 0; s < 4; ++s) {
-            labels = pg::ref::nearest_centroids(points, centroids, dims);
-            pg::compress::move_centroids(points, dims, labels, centroids);
-        }
-        labels = pg::ref::nearest_centroids(points, centroids, dims);
-        CHECK(labels == gpu.labels);
+        pg::compress::move_centroids(points, dims, start.labels, centroids);
         double worst = 0;
-        for (size_t i = 0; i < centroids.size(); ++i) worst = std::max(worst, double(std::abs(centroids[i] - gpu.centroids[i])));
-        CHECK(worst < 1e-5);
-        // Lloyd steps never raise the error.
-        CHECK(pg::ref::clustering_error(points, gpu.centroids, gpu.labels, dims) <=
-              pg::ref::clustering_error(points, start.centroids, start.labels, dims));
+        for (size_t i = 0; i < centroids.size(); ++i)
+            worst = std::max(worst, double(std::abs(centroids[i] - one.centroids[i])) / (1.0 + std::abs(centroids[i])));
+        CHECK(worst < 1e-6);
+        CHECK(one.labels == pg::ref::nearest_centroids(points, one.centroids, dims));
+        // More steps: labels stay the nearest of the returned centroids, and the error only falls
+        // (several centroids may share a blob, so later steps may part from the CPU's at near-ties).
+        const auto four = pg::compress::kmeans(ctx, points, dims, k, 4, 7);
+        REQUIRE(four.centroids.size() == k * dims);
+        REQUIRE(four.labels.size() == n);
+        CHECK(four.labels == pg::ref::nearest_centroids(points, four.centroids, dims));
+        const double e0 = pg::ref::clustering_error(points, start.centroids, start.labels, dims);
+        const double e1 = pg::ref::clustering_error(points, one.centroids, one.labels, dims);
+        const double e4 = pg::ref::clustering_error(points, four.centroids, four.labels, dims);
+        CHECK(e1 <= e0);
+        CHECK(e4 <= e1 * (1 + 1e-6));
     }
 }
 
