@@ -40,7 +40,7 @@ TEST_CASE("sog cli: a bundled SOG renders exactly as the PLY splat-transform dec
     CHECK(views == 2);
 }
 
-TEST_CASE("sog cli: --lod picks a streamed scene's level; a level it lacks is one clear error") {
+TEST_CASE("sog cli: --lod picks a streamed scene's level, and a level it lacks is one clear error") {
     auto r = run("info " + sog("streamed") + " --lod 1");
     INFO(r.out);
     REQUIRE(r.code == 0);
