@@ -24,7 +24,7 @@ constexpr uint64_t kMaxImageBytes = uint64_t(1) << 31;
 constexpr uint64_t kMaxCount = uint64_t(16383) * 16383;  // WebP's largest canvas
 constexpr size_t kPaletteRow = 64;
 
-// Bytes per image a Gaussian texture may waste on padding before it counts as a bomb.
+// Pixels a Gaussian texture may hold beyond `count` (padding) before its canvas counts as a bomb.
 size_t max_pixels_for(uint64_t count) { return size_t(std::min<uint64_t>(2 * count + 65536, kMaxCount)); }
 
 int coeffs_of_bands(int bands) { return sh_coeffs(bands) - 1; }

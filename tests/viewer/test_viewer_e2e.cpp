@@ -7,6 +7,7 @@
 #include <set>
 
 #include "dataset/eval/label_files.h"
+#include "dataset/formats/scene_io.h"
 #include "dataset/json_file.h"
 #include "tests/test_paths.h"
 #include "tests/viewer/viewer_run.h"
@@ -281,6 +282,27 @@ TEST_CASE("the real guitar scene opens, gets an orbit, and a click outlines the 
     REQUIRE(fs::exists(dir / "export" / "cameras.json"));
     auto labels = pg::data::eval::read_gaussian_labels(dir / "export" / "scene.ply", "instance");
     CHECK(std::count(labels.begin(), labels.end(), 1) > 1000);
+}
+
+TEST_CASE("the viewer opens a SOG and exports the scene and the clicked object as SOG", "[viewer]") {
+    const fs::path sog = pg::test::fixtures() / "sog" / "bundled_sh3.sog";
+    const fs::path dir = pg::test::scratch("viewer-sog");
+    fs::remove_all(dir / "export");
+    auto script = pg::test::write_script(
+        dir, json::array({{{"snap", 0}},
+                          {{"new_object", "desk"}},
+                          {{"click", {0.5, 0.5}}},
+                          {{"export", {{"folder", (dir / "export").string()}, {"masks", false}, {"format", "sog"}}}}}));
+    Run r = pg::test::run_viewer(sog.string() + " --decoder graph --size 480x360 --script " + script.string());
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK_FALSE(fs::exists(dir / "export" / "scene.ply"));
+    CHECK(pg::data::load_scene(dir / "export" / "scene.sog").size() == 1158);
+    REQUIRE(fs::exists(dir / "export" / "objects" / "desk.sog"));
+    const auto object = pg::data::load_scene(dir / "export" / "objects" / "desk.sog");
+    CHECK(object.size() > 10);
+    CHECK(object.size() < 1158);
+    CHECK(object.sh_degree == 3);
 }
 
 TEST_CASE("a streamed scene in the viewer labels and outlines like the resident one", "[viewer]") {
