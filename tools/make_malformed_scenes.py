@@ -300,6 +300,7 @@ def sog_cases(add):
     cut["quats.webp"] = images["quats.webp"][:len(images["quats.webp"]) // 2]
     add("sog_truncated_image.sog", sog_zip(meta, cut), "truncated or corrupt")
     add("sog_count_past_images.sog", variant(lambda m: m.update(count=100000)), "too small for the meta's count")
+    add("sog_count_huge.sog", variant(lambda m: m.update(count=16383 * 16383)), "too small for the meta's count")
     bomb = dict(images)
     bomb["scales.webp"] = webp_with_canvas(images["scales.webp"], 16383, 16383)
     add("sog_huge_canvas.sog", sog_zip(meta, bomb), "refused before decoding")
@@ -324,6 +325,10 @@ def sog_cases(add):
 
     add("sog_lod_range_past_chunk.json", lod_meta({"0": {"file": 0, "offset": 1100, "count": 100}}),
         "runs past sog_chunk/meta.json, which holds 1158 Gaussians")
+    add("sog_lod_ranges_overlap.json",
+        lod_meta({"0": {"file": 0, "offset": 0, "count": 1000}}) .replace(b'"children": [', b'"children": [' + json.dumps(
+            {"bound": {"min": [0, 0, 0], "max": [1, 1, 1]}, "lods": {"0": {"file": 0, "offset": 500, "count": 600}}}).encode() + b", "),
+        "ranges overlap: they cover 1600 Gaussians of chunks holding 1158")
     add("sog_lod_bad_file_index.json", lod_meta({"0": {"file": 4, "offset": 0, "count": 1}}),
         "field 'tree.children.0.lods.0.file' is 4, more than 0")
     add("sog_lod_level_past_levels.json", lod_meta({"3": {"file": 0, "offset": 0, "count": 1}}),

@@ -223,6 +223,15 @@ GaussianCloud decode_sog(const nlohmann::json& json, const SogFiles& files, cons
     }
     if (sh_degree < 0) sh_degree = 0;
 
+    // The count sizes the cloud: before allocating, an image's header must hold it (a tiny file
+    // claiming 2^28 Gaussians is refused here, not by running out of memory).
+    {
+        const std::string first = meta.files("means.files", 2)[0];
+        const size_t pixels = webp_pixels(files.read(first, kMaxImageBytes), files.where(first));
+        if (pixels < count)
+            throw InputError(files.where(first), "image holds " + std::to_string(pixels) +
+                                                     " pixels, too small for the meta's count of " + std::to_string(count));
+    }
     GaussianCloud cloud;
     cloud.sh_degree = sh_degree;
     cloud.resize(count);

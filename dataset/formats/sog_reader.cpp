@@ -165,17 +165,29 @@ GaussianCloud read_streamed(const LodMeta& m, int lod, const LoadProgress& progr
     out.sh_degree = env.empty() ? 0 : env[0].sh_degree;
     size_t done = 0;
     bool sized = false;
+    // Every range against its chunk's declared count before anything is allocated; ranges that
+    // overlap could claim more Gaussians than the chunks hold.
+    uint64_t held = 0;
     for (const auto& [file, members] : by_file) {
-        const fs::path chunk = m.dir / m.filenames[file];
-        const SogUnit u = open_unit(chunk);
-        GaussianCloud c = decode_sog(u.meta, u.files, u.where);
+        const SogUnit u = open_unit(m.dir / m.filenames[file]);
+        int version = 0, degree = 0;
+        uint64_t count = 0;
+        sog_meta_shape(u.meta, u.where, version, count, degree);
         for (size_t r : members)
-            if (ranges[r].offset + ranges[r].count > c.size())
+            if (ranges[r].offset + ranges[r].count > count)
                 throw InputError(m.where, "a tree leaf's level-" + std::to_string(lod) + " range [" +
                                               std::to_string(ranges[r].offset) + ", " +
                                               std::to_string(ranges[r].offset + ranges[r].count) + ") runs past " +
-                                              m.filenames[file] + ", which holds " + std::to_string(c.size()) +
+                                              m.filenames[file] + ", which holds " + std::to_string(count) +
                                               " Gaussians");
+        held += count;
+    }
+    if (total > held)
+        throw InputError(m.where, "level " + std::to_string(lod) + "'s ranges overlap: they cover " +
+                                      std::to_string(total) + " Gaussians of chunks holding " + std::to_string(held));
+    for (const auto& [file, members] : by_file) {
+        const SogUnit u = open_unit(m.dir / m.filenames[file]);
+        const GaussianCloud c = decode_sog(u.meta, u.files, u.where);  // holds the count checked above
         if (!sized || c.sh_degree > out.sh_degree) {
             // (Re)size on the first chunk or a higher SH degree; copies so far are redone below.
             GaussianCloud grown;

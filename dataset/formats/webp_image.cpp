@@ -28,6 +28,13 @@ RgbaImage decode_webp(const std::vector<uint8_t>& bytes, size_t max_pixels, cons
     return img;
 }
 
+size_t webp_pixels(const std::vector<uint8_t>& bytes, const std::string& where) {
+    int w = 0, h = 0;
+    if (bytes.empty() || !WebPGetInfo(bytes.data(), bytes.size(), &w, &h) || w <= 0 || h <= 0)
+        throw InputError(where, "not a WebP image (header unreadable)");
+    return size_t(w) * size_t(h);
+}
+
 std::vector<uint8_t> encode_webp_lossless(const RgbaImage& image) {
     WebPConfig config;
     WebPPicture pic;

@@ -18,6 +18,9 @@ struct RgbaImage {
 // Errors are InputError(where, ...).
 RgbaImage decode_webp(const std::vector<uint8_t>& bytes, size_t max_pixels, const std::string& where);
 
+// The canvas a WebP's header claims, without decoding; InputError(where, ...) if unreadable.
+size_t webp_pixels(const std::vector<uint8_t>& bytes, const std::string& where);
+
 // Lossless, exact (RGB kept under zero alpha). Throws std::runtime_error if libwebp fails.
 std::vector<uint8_t> encode_webp_lossless(const RgbaImage& image);
 

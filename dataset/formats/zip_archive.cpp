@@ -103,7 +103,10 @@ void write_zip(const std::filesystem::path& path, const std::vector<ZipEntry>& e
             zip_source_free(src);
             fail(std::string("zip: ") + zip_strerror(z));
         }
-        if (zip_set_file_compression(z, zip_uint64_t(i), ZIP_CM_STORE, 0) != 0) fail(std::string("zip: ") + zip_strerror(z));
+        // A fixed time stamp (2024-01-01 UTC), so the same entries give the same archive bytes.
+        if (zip_set_file_compression(z, zip_uint64_t(i), ZIP_CM_STORE, 0) != 0 ||
+            zip_file_set_mtime(z, zip_uint64_t(i), time_t(1704067200), 0) != 0)
+            fail(std::string("zip: ") + zip_strerror(z));
     }
     if (zip_close(z) != 0) fail(std::string("cannot write (") + zip_strerror(z) + ")");
     std::error_code ec;
