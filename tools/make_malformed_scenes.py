@@ -301,6 +301,16 @@ def sog_cases(add):
     add("sog_truncated_image.sog", sog_zip(meta, cut), "truncated or corrupt")
     add("sog_count_past_images.sog", variant(lambda m: m.update(count=100000)), "too small for the meta's count")
     add("sog_count_huge.sog", variant(lambda m: m.update(count=16383 * 16383)), "too small for the meta's count")
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_STORED) as z:
+        for name, data in sorted(images.items()):
+            info = zipfile.ZipInfo(name, date_time=(2026, 1, 1, 0, 0, 0))
+            if name == "quats.webp":  # 8 MB of zeros deflate to a few kilobytes
+                info.compress_type = zipfile.ZIP_DEFLATED
+                data = bytes(8 << 20)
+            z.writestr(info, data)
+        z.writestr(zipfile.ZipInfo("meta.json", date_time=(2026, 1, 1, 0, 0, 0)), json.dumps(meta).encode())
+    add("sog_zip_bomb.sog", buf.getvalue(), "refused before reading")
     bomb = dict(images)
     bomb["scales.webp"] = webp_with_canvas(images["scales.webp"], 16383, 16383)
     add("sog_huge_canvas.sog", sog_zip(meta, bomb), "refused before decoding")

@@ -20,7 +20,9 @@ namespace pg::data {
 
 namespace {
 
-constexpr uint64_t kMaxImageBytes = uint64_t(1) << 31;
+// A lossless WebP of a canvas is at most about its raw RGBA bytes; more is refused before it
+// is read (a deflated zip entry can claim gigabytes in a few kilobytes).
+uint64_t max_image_bytes(size_t max_pixels) { return uint64_t(max_pixels) * 4 + (uint64_t(1) << 20); }
 constexpr uint64_t kMaxCount = uint64_t(16383) * 16383;  // WebP's largest canvas
 constexpr size_t kPaletteRow = 64;
 
@@ -41,7 +43,7 @@ struct Decoder {
 
     RgbaImage image(const std::string& name, size_t max_pixels, uint64_t min_pixels) const {
         const std::string where = files.where(name);
-        RgbaImage img = decode_webp(files.read(name, kMaxImageBytes), max_pixels, where);
+        RgbaImage img = decode_webp(files.read(name, max_image_bytes(max_pixels)), max_pixels, where);
         if (img.pixels() < min_pixels)
             throw InputError(where, "image is " + std::to_string(img.width) + "x" + std::to_string(img.height) + " (" +
                                         std::to_string(img.pixels()) + " pixels), too small for the meta's count of " +
@@ -227,7 +229,7 @@ GaussianCloud decode_sog(const nlohmann::json& json, const SogFiles& files, cons
     // claiming 2^28 Gaussians is refused here, not by running out of memory).
     {
         const std::string first = meta.files("means.files", 2)[0];
-        const size_t pixels = webp_pixels(files.read(first, kMaxImageBytes), files.where(first));
+        const size_t pixels = webp_pixels(files.read(first, max_image_bytes(max_pixels_for(count))), files.where(first));
         if (pixels < count)
             throw InputError(files.where(first), "image holds " + std::to_string(pixels) +
                                                      " pixels, too small for the meta's count of " + std::to_string(count));
