@@ -51,8 +51,23 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
     try {
         pg::app::scene_budget(o.max_device_memory, o.half_sh);  // a bad size fails before the window opens
-        pg::viewer::Viewer viewer(o);
-        return viewer.run();
+        // "Open" in the panel (or a script's "open") ends a viewer; the next opens on the scene
+        // it names, without the first one's cameras, prompts or script (a --screenshot carries over).
+        for (;;) {
+            std::optional<pg::viewer::Viewer::Reopen> next;
+            {
+                pg::viewer::Viewer viewer(o);
+                const int code = viewer.run();
+                if (!viewer.reopen()) return code;
+                next = viewer.reopen();
+            }
+            o.scene = next->scene;
+            o.lod = next->lod;
+            o.cameras.clear();
+            o.prompts.clear();
+            o.script.clear();
+            o.script_log.clear();
+        }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         return 1;

@@ -36,6 +36,15 @@ void Viewer::draw_panels() {
     ImGui::TextDisabled("up (%s): %.2f %.2f %.2f", scene_.up_spec.c_str(), scene_.options.up.x, scene_.options.up.y,
                         scene_.options.up.z);
 
+    // Another scene (PLY, .splat, .spz, SOG...): this one closes, a new window opens on it.
+    ImGui::SetNextItemWidth(200);
+    ImGui::InputText("##open", panel_.open_path, sizeof panel_.open_path);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(40);
+    ImGui::InputInt("lod", &panel_.open_lod, 0);
+    ImGui::SameLine();
+    if (ImGui::Button("Open")) open_scene(panel_.open_path, panel_.open_lod);
+
     draw_view_panel();
     draw_objects_panel();
     draw_classes_panel();

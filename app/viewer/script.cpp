@@ -13,7 +13,7 @@ const std::set<std::string> kKinds = {"snap",   "orbit",   "pan",      "zoom",  
                                       "click",  "click_pixel", "pick", "select", "rename", "recolour", "hide",
                                       "delete", "isolate", "tints",    "mask",   "decoder",    "undo",
                                       "redo",   "export",  "screenshot", "label_by_class", "class_tints",
-                                      "object_from_class"};
+                                      "object_from_class", "open"};
 const std::set<std::string> kOptions = {"negative", "view", "wait"};
 
 void need(bool ok, const std::string& where, const std::string& what) {
@@ -71,6 +71,10 @@ std::vector<Action> read_script(const std::filesystem::path& path) {
         else if (k == "object_from_class")
             need(v.is_string() || v.is_number_integer() || numbers(v, 2), where,
                  "'object_from_class' expects a class name or id, or a point [x, y] of the picture");
+        else if (k == "open")
+            need(v.is_string() || (v.is_object() && v.contains("scene") && v["scene"].is_string() &&
+                                   (!v.contains("lod") || v["lod"].is_number_unsigned())),
+                 where, "'open' expects a scene path or {\"scene\": ..., \"lod\": N}");
         else if (k == "export")
             need(v.is_string() || (v.is_object() && v.contains("folder") && v["folder"].is_string() &&
                                    (!v.contains("format") || v["format"] == "ply" || v["format"] == "sog")),

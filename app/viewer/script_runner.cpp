@@ -127,6 +127,9 @@ void ScriptRunner::run(Viewer& viewer, const Action& a) {
             viewer.export_to(v["folder"].get<std::string>(), v.value("scene", true), v.value("objects", true),
                              v.value("masks", true), v.value("prompts", true), v.value("format", std::string("ply")));
         }
+    } else if (k == "open") {
+        if (v.is_string()) viewer.open_scene(v.get<std::string>());
+        else viewer.open_scene(v["scene"].get<std::string>(), v.value("lod", 0));
     } else if (k == "screenshot") {
         if (!a.extra.value("view", false)) return viewer.save_window(v.get<std::string>());
         try {

@@ -372,6 +372,20 @@ void Viewer::click_at(double x, double y, bool positive) {
     });
 }
 
+void Viewer::open_scene(const std::string& path, int lod) {
+    std::error_code ec;
+    if (path.empty() || !fs::exists(path, ec)) {
+        status("open: '" + path + "' does not exist", true);
+        return;
+    }
+    if (lod < 0) {
+        status("open: the LOD level must be 0 or more", true);
+        return;
+    }
+    reopen_ = Reopen{path, lod};
+    quit_ = true;
+}
+
 void Viewer::export_to(const std::string& folder, bool scene, bool objects, bool masks, bool prompts,
                        const std::string& format) {
     if (export_ && export_->running) {

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,14 @@ public:
     void save_picture(const std::string& png) const;   // the rendered view, without the panels
     void save_window(const std::string& png) { capture_path_ = png; }  // at the next settled frame
     void quit() { quit_ = true; }
+    // Closes this scene for another (any format the CLI reads; `lod` for a streamed SOG): run()
+    // returns, and main opens a viewer on it in a fresh window (reopen() says what).
+    void open_scene(const std::string& path, int lod = 0);
+    struct Reopen {
+        std::string scene;
+        int lod = 0;
+    };
+    const std::optional<Reopen>& reopen() const { return reopen_; }
 
     // What actions refer to.
     const SceneData& scene() const { return scene_; }
@@ -181,11 +190,14 @@ private:
         char folder[512] = {};
         bool folder_set = false;
         int format = 0;  // 0: PLY, 1: SOG
+        char open_path[512] = {};
+        int open_lod = 0;
     } panel_;
 
     std::unique_ptr<ScriptRunner> script_;  // --script or --screenshot: replay, capture, quit
     std::string capture_path_;
     bool quit_ = false;
+    std::optional<Reopen> reopen_;
     double frame_ms_ = 0;
 };
 

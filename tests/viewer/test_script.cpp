@@ -30,8 +30,8 @@ TEST_CASE("a script with every action parses in order", "[viewer]") {
         {"select": 1}, {"pick": [0.5, 0.5]}, {"rename": "cup"}, {"recolour": [1, 0, 0]}, {"hide": false}, {"isolate": true},
         {"tints": true}, {"mask": false}, {"decoder": "ground-truth"}, {"undo": 2}, {"redo": 1},
         {"export": "out"}, {"export": {"folder": "o2", "masks": false}}, {"screenshot": "a.png", "view": true},
-        {"delete": true}, {"export": {"folder": "o3", "format": "sog"}}]})"));
-    REQUIRE(actions.size() == 25);
+        {"delete": true}, {"export": {"folder": "o3", "format": "sog"}}, {"open": {"scene": "x.sog", "lod": 1}}]})"));
+    REQUIRE(actions.size() == 26);
     REQUIRE(actions[8].kind == "click_pixel");
     REQUIRE(actions[8].extra.value("negative", false));
     REQUIRE(actions[22].extra.value("view", false));
@@ -48,6 +48,7 @@ TEST_CASE("script errors name the file, the action and the reason", "[viewer]") 
     REQUIRE(error_of(R"({"actions": [{"negative": true}]})").find("names no action") != std::string::npos);
     REQUIRE(error_of(R"({"actions": [{"hide": "yes"}]})").find("true or false") != std::string::npos);
     REQUIRE(error_of("{not json").find("bad.json") != std::string::npos);
+    REQUIRE(error_of(R"({"actions": [{"open": {"scene": "x.sog", "lod": -1}}]})").find("'open' expects") != std::string::npos);
     REQUIRE(error_of(R"({"actions": [{"export": {"folder": "o", "format": "gltf"}}]})").find("\"ply\" or \"sog\"") !=
             std::string::npos);
 }

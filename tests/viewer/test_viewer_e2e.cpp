@@ -305,6 +305,26 @@ TEST_CASE("the viewer opens a SOG and exports the scene and the clicked object a
     CHECK(object.sh_degree == 3);
 }
 
+TEST_CASE("open in the viewer closes the scene and opens another, a SOG at a LOD level", "[viewer]") {
+    const fs::path dir = pg::test::scratch("viewer-open");
+    fs::remove(dir / "second.png");
+    const fs::path first = pg::test::fixtures() / "sog" / "unbundled_sh1";
+    const fs::path second = pg::test::fixtures() / "sog" / "streamed" / "lod-meta.json";
+    auto script = pg::test::write_script(dir, json::array({{{"open", {{"scene", second.string()}, {"lod", 1}}}}}));
+    Run r = pg::test::run_viewer(first.string() + " --decoder graph --size 480x360 --script " + script.string() +
+                                 " --screenshot " + (dir / "second.png").string());
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK(fs::exists(dir / "second.png"));  // taken by the second viewer, once its scene settled
+    // A scene that is not there is refused in the status line (a script counts it as an error);
+    // the first scene stays open.
+    script = pg::test::write_script(dir, json::array({{{"open", (dir / "no_such.sog").string()}}}));
+    r = pg::test::run_viewer(first.string() + " --decoder graph --size 480x360 --script " + script.string());
+    INFO(r.out);
+    CHECK(r.code != 0);
+    CHECK(r.out.find("open: '" + (dir / "no_such.sog").string() + "' does not exist") != std::string::npos);
+}
+
 TEST_CASE("a streamed scene in the viewer labels and outlines like the resident one", "[viewer]") {
     // --max-device-memory 6M puts the sample's 54k Gaussians in slabs of about 20k: the picture,
     // the clicks' lifts and the masks all go slab by slab. The labels must be the resident run's.
