@@ -6,6 +6,7 @@
 
 #include "dataset/error.h"
 #include "dataset/formats/scene_io.h"
+#include "dataset/formats/sog.h"
 
 namespace pg::data {
 
@@ -47,8 +48,7 @@ GaussianCloud load_scene(const fs::path& path, const LoadProgress& progress, int
     const std::string where = path.string();
     std::error_code ec;
     if (fs::is_directory(path, ec)) {
-        for (const char* name : {"lod-meta.json", "meta.json", "scene.sog"})
-            if (fs::is_regular_file(path / name, ec)) return read_sog(path, lod, progress);
+        if (sog_folder_entry(path)) return read_sog(path, lod, progress);
         throw InputError(where, "is a directory, expected a scene file (or a SOG folder holding meta.json)");
     }
     if (!fs::exists(path, ec)) throw InputError(where, "no such file");

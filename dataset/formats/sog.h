@@ -4,6 +4,7 @@
 // chunks) and two versions (v1: per-attribute min/max; v2: 256-entry codebooks).
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,9 +26,9 @@ struct SogSummary {
     uint64_t environment = 0;         // streamed: Gaussians drawn at every level
 };
 
-// The path is SOG if it is a zip, a JSON file, or a folder holding meta.json or lod-meta.json.
-// Returns the file to read: the path itself, or the meta file inside the folder.
-std::filesystem::path sog_entry_file(const std::filesystem::path& path);
+// The file a SOG folder is read through (lod-meta.json, else meta.json, else scene.sog), or
+// nullopt for a folder that is not SOG.
+std::optional<std::filesystem::path> sog_folder_entry(const std::filesystem::path& folder);
 
 // read_sog (scene_io.h) decodes any layout and version.
 SogSummary describe_sog(const std::filesystem::path& path);

@@ -125,6 +125,8 @@ void decode_sh0(const Decoder& d, int version, GaussianCloud& cloud) {
     }
 }
 
+}  // namespace
+
 // The SH degree a meta declares: v2 says `shN.bands`; v1 has no field, so its palette image's
 // width (64 entries of 3, 8 or 15 pixels) tells, which needs the image header.
 int v1_bands_from_width(int width) {
@@ -135,6 +137,8 @@ int v1_bands_from_width(int width) {
         default: return 0;
     }
 }
+
+namespace {
 
 void decode_shn(const Decoder& d, int version, const RgbaImage& palette, GaussianCloud& cloud) {
     const auto files = d.meta.files("shN.files", 2);

@@ -48,6 +48,8 @@ nlohmann::json parse_sog_json(const std::vector<uint8_t>& bytes, const std::stri
 // Decodes one meta.json (v1 or v2) and the images it names.
 GaussianCloud decode_sog(const nlohmann::json& meta, const SogFiles& files, const std::string& meta_where,
                          const std::function<void(double)>& progress = {});
+// A v1 palette image's width -> its SH bands (0 for a width no v1 palette has).
+int v1_bands_from_width(int width);
 // The Gaussian count and SH degree a meta.json declares, without decoding images.
 void sog_meta_shape(const nlohmann::json& meta, const std::string& meta_where, int& version, uint64_t& count,
                     int& sh_degree);

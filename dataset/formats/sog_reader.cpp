@@ -168,8 +168,9 @@ GaussianCloud read_streamed(const LodMeta& m, int lod, const LoadProgress& progr
     // Every range against its chunk's declared count before anything is allocated; ranges that
     // overlap could claim more Gaussians than the chunks hold.
     uint64_t held = 0;
+    std::map<size_t, SogUnit> units;
     for (const auto& [file, members] : by_file) {
-        const SogUnit u = open_unit(m.dir / m.filenames[file]);
+        const SogUnit& u = units[file] = open_unit(m.dir / m.filenames[file]);
         int version = 0, degree = 0;
         uint64_t count = 0;
         sog_meta_shape(u.meta, u.where, version, count, degree);
@@ -186,7 +187,7 @@ GaussianCloud read_streamed(const LodMeta& m, int lod, const LoadProgress& progr
         throw InputError(m.where, "level " + std::to_string(lod) + "'s ranges overlap: they cover " +
                                       std::to_string(total) + " Gaussians of chunks holding " + std::to_string(held));
     for (const auto& [file, members] : by_file) {
-        const SogUnit u = open_unit(m.dir / m.filenames[file]);
+        const SogUnit& u = units[file];
         const GaussianCloud c = decode_sog(u.meta, u.files, u.where);  // holds the count checked above
         if (!sized || c.sh_degree > out.sh_degree) {
             // (Re)size on the first chunk or a higher SH degree; copies so far are redone below.
@@ -212,8 +213,7 @@ GaussianCloud read_streamed(const LodMeta& m, int lod, const LoadProgress& progr
 fs::path resolve_entry(const fs::path& path) {
     std::error_code ec;
     if (!fs::is_directory(path, ec)) return path;
-    for (const char* name : {"lod-meta.json", "meta.json", "scene.sog"})
-        if (fs::exists(path / name, ec)) return path / name;
+    if (auto entry = sog_folder_entry(path)) return *entry;
     throw InputError(path.string(), "is a folder without lod-meta.json, meta.json or scene.sog");
 }
 
@@ -228,7 +228,12 @@ const char* sog_layout_name(SogLayout layout) {
     return "?";
 }
 
-fs::path sog_entry_file(const fs::path& path) { return resolve_entry(path); }
+std::optional<fs::path> sog_folder_entry(const fs::path& folder) {
+    std::error_code ec;
+    for (const char* name : {"lod-meta.json", "meta.json", "scene.sog"})
+        if (fs::is_regular_file(folder / name, ec)) return folder / name;
+    return std::nullopt;
+}
 
 GaussianCloud read_sog(const fs::path& path, int lod, const LoadProgress& progress) {
     const fs::path entry = resolve_entry(path);
@@ -263,7 +268,7 @@ SogSummary describe_sog(const fs::path& path) {
                 const std::string name = (*shn)["files"][0].get<std::string>();
                 if (is_safe_relative_name(name)) {
                     const RgbaImage img = decode_webp(u.files.read(name, uint64_t(1) << 31), 65536 * 15, u.files.where(name));
-                    degree = img.width == 192 ? 1 : img.width == 512 ? 2 : img.width == 960 ? 3 : 0;
+                    degree = v1_bands_from_width(img.width);
                 }
             }
         }

@@ -3,8 +3,8 @@
 
 #include <zip.h>
 
-#include <random>
 
+#include "dataset/atomic_file.h"
 #include "dataset/error.h"
 
 namespace pg::data {
@@ -83,38 +83,53 @@ std::vector<uint8_t> ZipReader::read(const std::string& name, uint64_t max_bytes
 }
 
 void write_zip(const std::filesystem::path& path, const std::vector<ZipEntry>& entries) {
+    // The archive is built in memory (SOG bundles are megabytes), then written like every other
+    // output: a temporary sibling renamed at the end, removed on failure or on a signal.
     const std::string where = path.string();
-    std::filesystem::path tmp = path;
-    tmp += ".tmp" + std::to_string(std::random_device{}());
-    int error = 0;
-    zip_t* z = zip_open(tmp.string().c_str(), ZIP_CREATE | ZIP_TRUNCATE, &error);
-    if (!z) throw InputError(where, "cannot create (" + zip_error_text(error) + ")");
+    zip_error_t error;
+    zip_error_init(&error);
+    zip_source_t* memory = zip_source_buffer_create(nullptr, 0, 0, &error);
+    zip_t* z = memory ? zip_open_from_source(memory, ZIP_TRUNCATE, &error) : nullptr;
+    if (!z) {
+        const std::string why = zip_error_strerror(&error);
+        if (memory) zip_source_free(memory);
+        zip_error_fini(&error);
+        throw InputError(where, "zip: " + why);
+    }
+    zip_error_fini(&error);
+    zip_source_keep(memory);  // outlives zip_close, which leaves the archive's bytes in it
     auto fail = [&](const std::string& why) {
         zip_discard(z);
-        std::error_code ec;
-        std::filesystem::remove(tmp, ec);
-        throw InputError(where, why);
+        zip_source_free(memory);
+        throw InputError(where, "zip: " + why);
     };
     for (const auto& e : entries) {
         zip_source_t* src = zip_source_buffer(z, e.bytes.data(), e.bytes.size(), 0);
-        if (!src) fail(std::string("zip: ") + zip_strerror(z));
+        if (!src) fail(zip_strerror(z));
         const zip_int64_t i = zip_file_add(z, e.name.c_str(), src, ZIP_FL_ENC_UTF_8 | ZIP_FL_OVERWRITE);
         if (i < 0) {
             zip_source_free(src);
-            fail(std::string("zip: ") + zip_strerror(z));
+            fail(zip_strerror(z));
         }
         // A fixed time stamp (2024-01-01 UTC), so the same entries give the same archive bytes.
         if (zip_set_file_compression(z, zip_uint64_t(i), ZIP_CM_STORE, 0) != 0 ||
             zip_file_set_mtime(z, zip_uint64_t(i), time_t(1704067200), 0) != 0)
-            fail(std::string("zip: ") + zip_strerror(z));
+            fail(zip_strerror(z));
     }
-    if (zip_close(z) != 0) fail(std::string("cannot write (") + zip_strerror(z) + ")");
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw InputError(where, "cannot write (" + ec.message() + ")");
+    if (zip_close(z) != 0) fail(zip_strerror(z));
+    std::vector<char> bytes;
+    zip_stat_t st;
+    zip_stat_init(&st);
+    const bool ok = zip_source_stat(memory, &st) == 0 && zip_source_open(memory) == 0;
+    if (ok) {
+        bytes.resize(st.size);
+        const zip_int64_t got = st.size ? zip_source_read(memory, bytes.data(), st.size) : 0;
+        zip_source_close(memory);
+        if (got != zip_int64_t(st.size)) bytes.clear();
     }
+    zip_source_free(memory);
+    if (!ok || bytes.size() != st.size) throw InputError(where, "zip: cannot read back the archive built in memory");
+    write_atomically(path, [&](std::ostream& os) { os.write(bytes.data(), std::streamsize(bytes.size())); });
 }
 
 }  // namespace pg::data

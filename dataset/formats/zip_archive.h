@@ -36,8 +36,8 @@ struct ZipEntry {
     std::string name;
     std::vector<uint8_t> bytes;
 };
-// Writes `entries` to a temporary sibling of `path`, then renames it over `path`; InputError
-// naming `path` on failure, with no file left behind.
+// Writes `entries` as a zip through write_atomically: InputError naming `path` on failure, with
+// no file left behind.
 void write_zip(const std::filesystem::path& path, const std::vector<ZipEntry>& entries);
 
 // True for a relative name without ".." parts, empty parts or backslashes: safe to look up in
