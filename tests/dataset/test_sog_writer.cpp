@@ -1,6 +1,6 @@
 // write_sog: what it writes reads back (here and in splat-transform) close to the input, and the
-// same input gives the same bytes. The clustering here is a plain CPU Lloyd's k-means; the
-// engine's GPU one is checked against its own reference in tests/render/test_kmeans.cpp.
+// same input gives the same bytes. The clustering here is the CPU reference of the engine's GPU
+// k-means (tests/reference/kmeans_reference.h), which tests/render/test_kmeans.cpp checks it against.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -12,6 +12,7 @@
 #include "dataset/formats/sog.h"
 #include "dataset/formats/sog_writer.h"
 #include "dataset/formats/zip_archive.h"
+#include "tests/reference/kmeans_reference.h"
 #include "tests/test_paths.h"
 
 namespace fs = std::filesystem;
@@ -19,59 +20,16 @@ using pg::data::GaussianCloud;
 
 namespace {
 
-pg::data::SogClusters lloyd(const std::vector<float>& points, size_t dims, std::vector<float> centroids, int iterations) {
-    const size_t n = points.size() / dims, k = centroids.size() / dims;
-    pg::data::SogClusters out;
-    out.labels.assign(n, 0);
-    for (int it = 0; it <= iterations; ++it) {
-        for (size_t i = 0; i < n; ++i) {
-            double best = INFINITY;
-            for (size_t c = 0; c < k; ++c) {
-                double d = 0;
-                for (size_t j = 0; j < dims; ++j) d += std::pow(double(points[i * dims + j]) - centroids[c * dims + j], 2);
-                if (d < best) best = d, out.labels[i] = uint32_t(c);
-            }
-        }
-        if (it == iterations) break;
-        std::vector<double> sum(k * dims, 0.0);
-        std::vector<size_t> count(k, 0);
-        for (size_t i = 0; i < n; ++i) {
-            ++count[out.labels[i]];
-            for (size_t j = 0; j < dims; ++j) sum[out.labels[i] * dims + j] += points[i * dims + j];
-        }
-        for (size_t c = 0; c < k; ++c)
-            if (count[c])
-                for (size_t j = 0; j < dims; ++j) centroids[c * dims + j] = float(sum[c * dims + j] / double(count[c]));
-    }
-    out.centroids = std::move(centroids);
-    return out;
-}
-
+// The CPU reference of the GPU k-means, as the writer's clustering.
 pg::data::SogQuantizer cpu_quantizer() {
     pg::data::SogQuantizer q;
     q.codebook = [](const std::vector<float>& values) {
-        std::vector<float> sorted = values;
-        std::sort(sorted.begin(), sorted.end());
-        std::vector<float> init(256);
-        for (size_t i = 0; i < 256; ++i) init[i] = sorted[std::min(sorted.size() - 1, (2 * i + 1) * sorted.size() / 512)];
-        auto c = lloyd(values, 1, init, 10);
-        // Ascending codebook, labels remapped.
-        std::vector<uint32_t> rank(256);
-        std::vector<uint32_t> idx(256);
-        for (uint32_t i = 0; i < 256; ++i) idx[i] = i;
-        std::stable_sort(idx.begin(), idx.end(), [&](uint32_t a, uint32_t b) { return c.centroids[a] < c.centroids[b]; });
-        std::vector<float> sorted_c(256);
-        for (uint32_t r = 0; r < 256; ++r) rank[idx[r]] = r, sorted_c[r] = c.centroids[idx[r]];
-        for (auto& l : c.labels) l = rank[l];
-        c.centroids = sorted_c;
-        return c;
+        auto c = pg::ref::codebook_1d(values, pg::ref::codebook_start(values, 256), 10);
+        return pg::data::SogClusters{std::move(c.centroids), std::move(c.labels)};
     };
     q.kmeans = [](const std::vector<float>& points, size_t dims, size_t k) {
-        const size_t n = points.size() / dims;
-        std::vector<float> init(k * dims);
-        for (size_t c = 0; c < k; ++c)
-            std::copy_n(&points[(c * n / k) * dims], dims, &init[c * dims]);  // evenly spaced points
-        return lloyd(points, dims, init, 5);
+        auto c = pg::ref::kmeans(points, dims, k, 5, 1);
+        return pg::data::SogClusters{std::move(c.centroids), std::move(c.labels)};
     };
     return q;
 }
