@@ -62,6 +62,7 @@ Renderer::Renderer(vk::Context& ctx)
       args_(ctx, 16, vk::MemoryUse::Device, "render indirect args"),
       no_style_(ctx, 16, vk::MemoryUse::Device, "no render style"),
       pick_(ctx, sizeof(gpu::PixelPick), vk::MemoryUse::Device, "pixel pick"),
+      pick_state_(ctx, 2 * 14 * 4, vk::MemoryUse::Device, "pixel pick walks"),
       slab_(ctx, "render slab") {}
 
 void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, const RenderSettings& settings,
@@ -203,20 +204,26 @@ bool Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, co
         const vk::gpu::IndirectArgsPush args{0, 256, group_limit, 0, capacity_};
         cmd_.dispatch("common/indirect_args", {counters_, args_}, args, 1);
         cmd_.dispatch_indirect("render/tile_ranges", {frame_, counters_, keys_, ranges_}, args_);
-        cmd_.begin_pass("blend");
-        cmd_.dispatch_2d("render/blend", {frame_, splats_, values_, ranges_, image_, aux_, ids, carry_in, carry_out},
-                         tiles_x, tiles_y);
-        if (after_slab) after_slab(cmd_, SlabPass{uint32_t(slabs_), n, flags, slab ? &slab_ids_ : nullptr});
-        cmd_.end_pass();
+        cmd_.fill(counters_, 0, 4, 4);
+        cmd_.dispatch("render/tile_longest", {frame_, ranges_, counters_}, vk::ceil_div(tiles, 256));
+        // A frame of at most kTileWindow Gaussians cannot hold more keys in one tile; a larger one
+        // plans with the last frame's longest list and is drawn again below if that was short.
+        windows_ = n <= gpu::kTileWindow ? 1 : std::max<uint32_t>(1, vk::ceil_div(longest_tile_, gpu::kTileWindow));
+        record_tile_passes(n, flags, carry_in, carry_out, after_slab);
         cmd_.submit_and_wait();
-        for (auto& t : cmd_.timings()) {
-            auto it = std::find_if(timings_.begin(), timings_.end(), [&](auto& u) { return u.name == t.name; });
-            if (it == timings_.end()) timings_.push_back(t);
-            else it->ms += t.ms;
-        }
-        const uint32_t keys = vk::download_vector<uint32_t>(ctx_, counters_, 1)[0];
+        add_timings();
+        const auto counts = vk::download_vector<uint32_t>(ctx_, counters_, 2);
+        const uint32_t keys = counts[0];
         if (keys <= capacity_) {
             key_count_ += keys;
+            longest_tile_ = counts[1];
+            const uint32_t needed = std::max<uint32_t>(1, vk::ceil_div(longest_tile_, gpu::kTileWindow));
+            if (needed > windows_) {
+                windows_ = needed;
+                record_tile_passes(n, flags, carry_in, carry_out, after_slab);
+                cmd_.submit_and_wait();
+                add_timings();
+            }
             break;
         }
         ++retries_;
@@ -233,6 +240,35 @@ bool Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, co
     return true;
 }
 
+void Renderer::record_tile_passes(uint32_t n, uint32_t flags, const vk::Buffer& carry_in, const vk::Buffer& carry_out,
+                                  const SlabHook& after_slab) {
+    const bool slab = (flags & gpu::kBlendSlabIds) != 0;
+    const vk::Buffer& ids = slab ? slab_ids_ : no_style_;
+    if (windows_ > 1)
+        for (auto& w : window_carry_) {
+            if (!w.valid()) w = vk::Buffer(ctx_, 0, vk::MemoryUse::Device, "blend window carry");
+            w.ensure(uint64_t(width_) * uint64_t(height_) * gpu::kCarryWords * 4);
+        }
+    cmd_.begin_pass("blend");
+    for (uint32_t w = 0; w < windows_; ++w) {
+        const vk::Buffer& window_in = windows_ > 1 ? window_carry_[w % 2] : no_style_;
+        const vk::Buffer& window_out = windows_ > 1 ? window_carry_[(w + 1) % 2] : no_style_;
+        cmd_.dispatch_2d("render/blend",
+                         {frame_, splats_, values_, ranges_, image_, aux_, ids, carry_in, carry_out, window_in, window_out},
+                         gpu::TileWindowPush{{w, windows_, 0, 0}}, tiles_x(), tiles_y());
+    }
+    if (after_slab) after_slab(cmd_, SlabPass{uint32_t(slabs_), n, flags, slab ? &slab_ids_ : nullptr, windows_});
+    cmd_.end_pass();
+}
+
+void Renderer::add_timings() {
+    for (auto& t : cmd_.timings()) {
+        auto it = std::find_if(timings_.begin(), timings_.end(), [&](auto& u) { return u.name == t.name; });
+        if (it == timings_.end()) timings_.push_back(t);
+        else it->ms += t.ms;
+    }
+}
+
 uint32_t Renderer::tiles_x() const { return vk::ceil_div(uint32_t(width_), gpu::kTileSize); }
 uint32_t Renderer::tiles_y() const { return vk::ceil_div(uint32_t(height_), gpu::kTileSize); }
 
@@ -245,8 +281,12 @@ PixelPick Renderer::pick(int x, int y) {
     if (x < 0 || y < 0 || x >= width_ || y >= height_)
         throw std::out_of_range("Renderer::pick: pixel (" + std::to_string(x) + ", " + std::to_string(y) +
                                 ") is off the " + std::to_string(width_) + "x" + std::to_string(height_) + " frame");
-    cmd_.dispatch("render/pick_pixel", {frame_, splats_, values_, ranges_, streamed ? slab_.shapes : last_scene_->shapes, pick_},
-                  gpu::PickPush{{uint32_t(x), uint32_t(y), 0, 0}}, 1);
+    // Both walks, window by window; the second does nothing where the first reached tau.
+    for (uint32_t walk = 0; walk < 2; ++walk)
+        for (uint32_t w = 0; w < windows_; ++w)
+            cmd_.dispatch("render/pick_pixel",
+                          {frame_, splats_, values_, ranges_, streamed ? slab_.shapes : last_scene_->shapes, pick_, pick_state_},
+                          gpu::PickPush{{uint32_t(x), uint32_t(y), w, walk}, {windows_, 0, 0, 0}}, 1);
     cmd_.submit_and_wait();
     const auto g = vk::download_vector<gpu::PixelPick>(ctx_, pick_, 1)[0];
     PixelPick p;

@@ -69,9 +69,11 @@ struct PixelPick {
 struct SlabPass {
     uint32_t index = 0, size = 0, flags = 0;
     const vk::Buffer* ids = nullptr;
+    uint32_t windows = 1;  // windows of kTileWindow keys the slab's tile lists are walked in
 };
 // Records a pass that walks each slab's tile lists (label rasterization) into the frame's
-// command list, right after the slab's blend.
+// command list, right after the slab's blend. It may be recorded twice for one slab (when
+// the tile lists need more windows than planned), so it must only write what it reads from.
 using SlabHook = std::function<void(vk::CommandList&, const SlabPass&)>;
 
 class Renderer {
@@ -103,6 +105,9 @@ public:
     const vk::Buffer& splat_buffer() const { return splats_; } // gpu::Splat per Gaussian (valid where it touches a tile)
     const vk::Buffer& tile_values() const { return values_; }  // Gaussian ids, tile-major, front to back
     const vk::Buffer& tile_ranges() const { return ranges_; }  // uvec2 [start, end) into tile_values() per tile
+    // Windows of gpu::kTileWindow keys that cover the longest tile list of the last frame (or
+    // slab): passes that walk the lists take one window per dispatch.
+    uint32_t tile_windows() const { return windows_; }
     uint32_t tiles_x() const;
     uint32_t tiles_y() const;
 
@@ -112,6 +117,10 @@ private:
     // fit one binding (draw fewer Gaussians at a time).
     bool render_slab(const GpuScene& scene, const data::Camera& camera, const RenderSettings& settings,
                      const RenderStyle* style, uint32_t n, uint32_t flags, const SlabHook& after_slab);
+    // The blend's windows_ dispatches and the slab hook.
+    void record_tile_passes(uint32_t n, uint32_t flags, const vk::Buffer& carry_in, const vk::Buffer& carry_out,
+                            const SlabHook& after_slab);
+    void add_timings();
 
     vk::Context& ctx_;
     vk::CommandList cmd_;
@@ -121,6 +130,9 @@ private:
     vk::Buffer depth_keys_, order_, touched_sorted_;
     vk::Buffer no_style_;
     vk::Buffer pick_;      // one gpu::PixelPick
+    vk::Buffer pick_state_;  // the pick's two walks between windows
+    vk::Buffer window_carry_[2];  // pixel state between windows of the tile lists
+    uint32_t windows_ = 1, longest_tile_ = 0;
     vk::Buffer slab_ids_, slab_labels_, carry_[2];  // streamed scenes only
     std::vector<uint32_t> slab_host_ids_;           // the last slab's scene ids
     SceneSlab slab_;

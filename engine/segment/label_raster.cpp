@@ -21,7 +21,9 @@ LabelRasterizer::LabelRasterizer(vk::Context& ctx)
       cmd_(ctx),
       none_(ctx, 16, vk::MemoryUse::Device, "no label carry"),
       slab_labels_(ctx, 16, vk::MemoryUse::Device, "slab labels"),
-      carry_{vk::Buffer(ctx, 16, vk::MemoryUse::Device, "label carry"), vk::Buffer(ctx, 16, vk::MemoryUse::Device, "label carry")} {}
+      carry_{vk::Buffer(ctx, 16, vk::MemoryUse::Device, "label carry"), vk::Buffer(ctx, 16, vk::MemoryUse::Device, "label carry")},
+      window_carry_{vk::Buffer(ctx, 16, vk::MemoryUse::Device, "label window carry"),
+                    vk::Buffer(ctx, 16, vk::MemoryUse::Device, "label window carry")} {}
 
 void LabelRasterizer::rasterize(vk::CommandList& cmd, const render::Renderer& renderer,
                                 const vk::Buffer& gaussian_labels, vk::Buffer& label_image, LabelMode mode) {
@@ -37,12 +39,24 @@ void LabelRasterizer::rasterize(vk::CommandList& cmd, const render::Renderer& re
         label_image = vk::Buffer(ctx_, bytes, vk::MemoryUse::Device, "label image");
     else
         label_image.ensure(bytes);
-    const char* shader = mode == LabelMode::Paper ? "segment/label_paper" : "segment/label_occlusion";
     // Whole ranges: the shader reads the label count from the buffer's length.
-    cmd.dispatch_2d(shader,
-                    {renderer.frame_buffer(), renderer.splat_buffer(), renderer.tile_values(), renderer.tile_ranges(),
-                     gaussian_labels, vk::BufferRange(label_image, 0, bytes), none_, none_},
-                    renderer.tiles_x(), renderer.tiles_y());
+    record(cmd, renderer, gaussian_labels, vk::BufferRange(label_image, 0, bytes), none_, none_,
+           renderer.tile_windows(), mode);
+}
+
+void LabelRasterizer::record(vk::CommandList& cmd, const render::Renderer& renderer, vk::BufferRange labels,
+                             vk::BufferRange image, const vk::Buffer& carry_in, const vk::Buffer& carry_out,
+                             uint32_t windows, LabelMode mode) {
+    if (windows > 1)
+        for (auto& w : window_carry_)
+            w.ensure(uint64_t(renderer.width()) * uint64_t(renderer.height()) * render::gpu::kLabelCarryWords * 4);
+    const char* shader = mode == LabelMode::Paper ? "segment/label_paper" : "segment/label_occlusion";
+    for (uint32_t w = 0; w < windows; ++w)
+        cmd.dispatch_2d(shader,
+                        {renderer.frame_buffer(), renderer.splat_buffer(), renderer.tile_values(), renderer.tile_ranges(),
+                         labels, image, carry_in, carry_out, windows > 1 ? window_carry_[w % 2] : none_,
+                         windows > 1 ? window_carry_[(w + 1) % 2] : none_},
+                        render::gpu::TileWindowPush{{w, windows, 0, 0}}, renderer.tiles_x(), renderer.tiles_y());
 }
 
 void LabelRasterizer::rasterize_slab(vk::CommandList& cmd, const render::Renderer& renderer,
@@ -63,13 +77,9 @@ void LabelRasterizer::rasterize_slab(vk::CommandList& cmd, const render::Rendere
         labels = &slab_labels_;
     }
     for (auto& c : carry_) c.ensure(pixels * render::gpu::kLabelCarryWords * 4);
-    const char* shader = mode == LabelMode::Paper ? "segment/label_paper" : "segment/label_occlusion";
     const vk::BufferRange slab_range(*labels, 0, std::max<uint64_t>(uint64_t(slab.size) * 4, 4));
-    cmd.dispatch_2d(shader,
-                    {renderer.frame_buffer(), renderer.splat_buffer(), renderer.tile_values(), renderer.tile_ranges(),
-                     slab.ids ? slab_range : vk::BufferRange(gaussian_labels), vk::BufferRange(label_image, 0, bytes),
-                     carry_[slab.index % 2], carry_[(slab.index + 1) % 2]},
-                    renderer.tiles_x(), renderer.tiles_y());
+    record(cmd, renderer, slab.ids ? slab_range : vk::BufferRange(gaussian_labels), vk::BufferRange(label_image, 0, bytes),
+           carry_[slab.index % 2], carry_[(slab.index + 1) % 2], slab.windows, mode);
 }
 
 std::vector<uint32_t> LabelRasterizer::rasterize_and_read(const render::Renderer& renderer,

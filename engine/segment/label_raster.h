@@ -58,10 +58,15 @@ public:
     double last_ms() const { return last_ms_; }
 
 private:
+    // One dispatch per window of the tile lists, the pixel state passed between them.
+    void record(vk::CommandList& cmd, const render::Renderer& renderer, vk::BufferRange labels, vk::BufferRange image,
+                const vk::Buffer& carry_in, const vk::Buffer& carry_out, uint32_t windows, LabelMode mode);
+
     vk::Context& ctx_;
     vk::CommandList cmd_;
     vk::Buffer image_;
     vk::Buffer none_, slab_labels_, carry_[2];  // none_: bound where a pass reads no carry
+    vk::Buffer window_carry_[2];
     double last_ms_ = 0.0;
 };
 

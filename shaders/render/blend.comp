@@ -1,10 +1,12 @@
 #version 450
 // Front-to-back blending, one workgroup per 16x16 tile: splats are staged through shared
 // memory in batches, and the group stops once every pixel is saturated. The inner loop is
-// branch-free: SIMD drivers (lavapipe) run divergent lanes in lockstep anyway.
+// branch-free: SIMD drivers (lavapipe) run divergent lanes in lockstep anyway. A dispatch
+// walks one window of each tile's list (render/tile_window.glsl).
 #extension GL_GOOGLE_include_directive : require
 #include "render/render_shared.h"
 #include "render/tile_test.glsl"
+#include "render/tile_window.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(std430, binding = 0) readonly buffer Frame { FrameParams frame; };
@@ -16,6 +18,17 @@ layout(std430, binding = 5) writeonly buffer Aux { uvec4 aux[]; };     // depth,
 layout(std430, binding = 6) readonly buffer SlabIds { uint slab_ids[]; };  // scene id of each slab Gaussian
 layout(std430, binding = 7) readonly buffer CarryIn { uint carry_in[]; };  // kCarryWords per pixel
 layout(std430, binding = 8) writeonly buffer CarryOut { uint carry_out[]; };
+// The state between windows of one tile's list (kCarryWords per pixel).
+layout(std430, binding = 9) readonly buffer WindowIn { uint window_in[]; };
+layout(std430, binding = 10) writeonly buffer WindowOut { uint window_out[]; };
+layout(push_constant) uniform Push { TileWindowPush pc; };
+
+// Word i of the carried state: from the last slab (first window) or the last window.
+uint carried(bool first, uint i) { return first ? carry_in[i] : window_in[i]; }
+void carry(bool last, uint i, uint v) {
+    if (last) carry_out[i] = v;
+    else window_out[i] = v;
+}
 
 // Structure of arrays: each lane reads the same element, one vec4 at a time.
 shared vec4 s_mean_opacity[kBlendGroup];  // mean.xy, opacity, depth
@@ -37,7 +50,9 @@ void main() {
     uint width = frame.size.x, height = frame.size.y;
     bool inside = pix.x < width && pix.y < height;
     uint tile = gl_WorkGroupID.y * frame.size.z + gl_WorkGroupID.x;
-    uvec2 range = ranges[tile];
+    const TileWindow tw = tile_window(ranges[tile], pc.window.x, pc.window.y);
+    if (tw.skip) return;  // uniform over the group, before any barrier
+    const uvec2 range = tw.range;
     vec2 center = vec2(pix) + 0.5;
     float tau = frame.background.w;
 
@@ -53,16 +68,17 @@ void main() {
     float tau_depth = 0.0;
     uint tau_id = kNoGaussian, contributors = 0u;
     bool done = !inside;
-    if ((flags & kBlendResume) != 0u && inside) {
+    if ((!tw.first || (flags & kBlendResume) != 0u) && inside) {
         uint c = p * kCarryWords;
-        C = vec3(uintBitsToFloat(carry_in[c]), uintBitsToFloat(carry_in[c + 1u]), uintBitsToFloat(carry_in[c + 2u]));
-        T = uintBitsToFloat(carry_in[c + 3u]);
-        D = uintBitsToFloat(carry_in[c + 4u]);
-        Wsum = uintBitsToFloat(carry_in[c + 5u]);
-        tau_depth = uintBitsToFloat(carry_in[c + 6u]);
-        tau_id = carry_in[c + 7u];
-        contributors = carry_in[c + 8u];
-        done = carry_in[c + 9u] != 0u;
+        C = vec3(uintBitsToFloat(carried(tw.first, c)), uintBitsToFloat(carried(tw.first, c + 1u)),
+                 uintBitsToFloat(carried(tw.first, c + 2u)));
+        T = uintBitsToFloat(carried(tw.first, c + 3u));
+        D = uintBitsToFloat(carried(tw.first, c + 4u));
+        Wsum = uintBitsToFloat(carried(tw.first, c + 5u));
+        tau_depth = uintBitsToFloat(carried(tw.first, c + 6u));
+        tau_id = carried(tw.first, c + 7u);
+        contributors = carried(tw.first, c + 8u);
+        done = carried(tw.first, c + 9u) != 0u;
     }
     const uint tau_before = tau_id;  // a tau Gaussian of an earlier slab is a scene id already
     if (done) atomicAdd(done_count, 1u);
@@ -141,18 +157,18 @@ void main() {
     }
     if (!inside) return;
     if ((flags & kBlendSlabIds) != 0u && tau_before == kNoGaussian && tau_id != kNoGaussian) tau_id = slab_ids[tau_id];
-    if ((flags & kBlendFinal) == 0u) {
+    if (!tw.last || (flags & kBlendFinal) == 0u) {
         uint c = p * kCarryWords;
-        carry_out[c] = floatBitsToUint(C.r);
-        carry_out[c + 1u] = floatBitsToUint(C.g);
-        carry_out[c + 2u] = floatBitsToUint(C.b);
-        carry_out[c + 3u] = floatBitsToUint(T);
-        carry_out[c + 4u] = floatBitsToUint(D);
-        carry_out[c + 5u] = floatBitsToUint(Wsum);
-        carry_out[c + 6u] = floatBitsToUint(tau_depth);
-        carry_out[c + 7u] = tau_id;
-        carry_out[c + 8u] = contributors;
-        carry_out[c + 9u] = done ? 1u : 0u;
+        carry(tw.last, c, floatBitsToUint(C.r));
+        carry(tw.last, c + 1u, floatBitsToUint(C.g));
+        carry(tw.last, c + 2u, floatBitsToUint(C.b));
+        carry(tw.last, c + 3u, floatBitsToUint(T));
+        carry(tw.last, c + 4u, floatBitsToUint(D));
+        carry(tw.last, c + 5u, floatBitsToUint(Wsum));
+        carry(tw.last, c + 6u, floatBitsToUint(tau_depth));
+        carry(tw.last, c + 7u, tau_id);
+        carry(tw.last, c + 8u, contributors);
+        carry(tw.last, c + 9u, done ? 1u : 0u);
         return;
     }
     image[p] = vec4(C + T * frame.background.rgb, 1.0 - T);

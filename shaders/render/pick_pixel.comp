@@ -10,7 +10,8 @@
 // apart in depth, while tau can be reached on a translucent blob in front of the object or
 // on the ground behind its edge. A pixel that never reaches tau takes tau x its final
 // opacity (a second walk), so a translucent surface still lifts without a second frame.
-// One invocation: a click is one pixel, and its tile's list is short.
+// One invocation: a click is one pixel. Each dispatch walks one window of the tile's list
+// (kTileWindow keys, render_shared.h says why) and keeps the walk in `state` for the next.
 #extension GL_GOOGLE_include_directive : require
 #include "render/render_shared.h"
 
@@ -21,6 +22,7 @@ layout(std430, binding = 2) readonly buffer Values { uint values[]; };
 layout(std430, binding = 3) readonly buffer Ranges { uvec2 ranges[]; };
 layout(std430, binding = 4) readonly buffer Shapes { vec4 shapes[]; };  // log-scale xyz, quaternion wxyz
 layout(std430, binding = 5) writeonly buffer Out { PixelPick pick; };
+layout(std430, binding = 6) buffer State { uint state[]; };  // the two walks, kWalkWords each
 layout(push_constant) uniform Push { PickPush pc; };
 
 struct Walk {
@@ -33,7 +35,35 @@ struct Walk {
     float best_w, best_depth;
     uint best_id;
     float last_depth, last_size;
+    bool stopped;  // transmittance would have fallen under the floor
 };
+const uint kWalkWords = 14u;
+
+void save(uint slot, Walk r) {
+    const uint b = slot * kWalkWords;
+    state[b] = floatBitsToUint(r.T);
+    state[b + 1u] = floatBitsToUint(r.tau_depth);
+    state[b + 2u] = r.tau_id;
+    state[b + 3u] = r.contributors;
+    state[b + 4u] = floatBitsToUint(r.cur_w);
+    state[b + 5u] = floatBitsToUint(r.cur_peak_w);
+    state[b + 6u] = floatBitsToUint(r.cur_depth);
+    state[b + 7u] = r.cur_id;
+    state[b + 8u] = floatBitsToUint(r.best_w);
+    state[b + 9u] = floatBitsToUint(r.best_depth);
+    state[b + 10u] = r.best_id;
+    state[b + 11u] = floatBitsToUint(r.last_depth);
+    state[b + 12u] = floatBitsToUint(r.last_size);
+    state[b + 13u] = r.stopped ? 1u : 0u;
+}
+
+Walk load(uint slot) {
+    const uint b = slot * kWalkWords;
+    return Walk(uintBitsToFloat(state[b]), uintBitsToFloat(state[b + 1u]), state[b + 2u], state[b + 3u],
+                uintBitsToFloat(state[b + 4u]), uintBitsToFloat(state[b + 5u]), uintBitsToFloat(state[b + 6u]),
+                state[b + 7u], uintBitsToFloat(state[b + 8u]), uintBitsToFloat(state[b + 9u]), state[b + 10u],
+                uintBitsToFloat(state[b + 11u]), uintBitsToFloat(state[b + 12u]), state[b + 13u] != 0u);
+}
 
 // The Gaussian's standard deviation along the ray (unit direction `ray`, world), as a depth
 // extent (times the ray's cosine to the view axis, `cos_z`): sqrt(sum_k (s_k (r_k . ray))^2).
@@ -58,9 +88,9 @@ void close_surface(inout Walk r) {
     }
 }
 
-Walk walk(uvec2 range, vec2 center, float tau, vec3 ray, float cos_z) {
-    Walk r = Walk(1.0, 0.0, kNoGaussian, 0u, 0.0, 0.0, 0.0, kNoGaussian, 0.0, 0.0, kNoGaussian, 0.0, 0.0);
-    for (uint k = range.x; k < range.y; ++k) {
+// Walks keys range.x .. range.y - 1 on from where r stands.
+void walk(inout Walk r, uvec2 range, vec2 center, float tau, vec3 ray, float cos_z) {
+    for (uint k = range.x; k < range.y && !r.stopped; ++k) {
         uint id = values[k];
         Splat sp = splats[id];
         vec2 d = sp.mean - center;
@@ -68,7 +98,10 @@ Walk walk(uvec2 range, vec2 center, float tau, vec3 ray, float cos_z) {
         float alpha = min(kAlphaMax, sp.opacity * exp(min(power, 0.0)));
         if (power > 0.0 || alpha < kAlphaMin) continue;
         float test_T = r.T * (1.0 - alpha);
-        if (test_T < kTransmittanceMin) break;  // blend stops here too
+        if (test_T < kTransmittanceMin) {  // blend stops here too
+            r.stopped = true;
+            break;
+        }
         float w = alpha * r.T;
         float size = ray_extent(id, ray, cos_z);
         if (r.contributors > 0u && sp.depth - r.last_depth > kSurfaceGap * (size + r.last_size)) {
@@ -91,27 +124,42 @@ Walk walk(uvec2 range, vec2 center, float tau, vec3 ray, float cos_z) {
             r.tau_depth = sp.depth;
         }
     }
-    close_surface(r);
-    return r;
+}
+
+void finish(Walk r, Walk second, float opacity, float tau) {
+    pick.ids = uvec4(r.best_id, second.tau_id, 0u, 0u);
+    pick.depths = vec4(r.best_depth, second.tau_depth, 0.0, 0.0);
+    pick.weights = vec4(r.best_w, opacity, tau, 0.0);
 }
 
 void main() {
     uvec2 pix = pc.pixel.xy;
     uvec2 tile = pix / kTileSize;
-    uvec2 range = ranges[tile.y * frame.size.z + tile.x];
+    const uvec2 full = ranges[tile.y * frame.size.z + tile.x];
+    const uint index = pc.pixel.z, len = full.y - full.x;
+    const uvec2 range = full.x + uvec2(min(index * kTileWindow, len), min((index + 1u) * kTileWindow, len));
+    const bool last = index + 1u == pc.windows.x;
     vec2 center = vec2(pix) + 0.5;
     float tau = frame.background.w;
     vec3 cam_ray = normalize(vec3((center - frame.intrinsics.zw) / frame.intrinsics.xy, 1.0));
     vec3 ray = transpose(mat3(frame.view)) * cam_ray;  // world; view is a rigid transform
-    Walk r = walk(range, center, tau, ray, cam_ray.z);
-    float opacity = 1.0 - r.T;
-    if (r.tau_id == kNoGaussian && opacity > 0.0) {
-        tau *= opacity;
-        Walk again = walk(range, center, tau, ray, cam_ray.z);
-        r.tau_id = again.tau_id;
-        r.tau_depth = again.tau_depth;
+    const Walk fresh = Walk(1.0, 0.0, kNoGaussian, 0u, 0.0, 0.0, 0.0, kNoGaussian, 0.0, 0.0, kNoGaussian, 0.0, 0.0, false);
+    if (pc.pixel.w == 0u) {
+        Walk r = index == 0u ? fresh : load(0u);
+        walk(r, range, center, tau, ray, cam_ray.z);
+        if (last) {
+            close_surface(r);
+            if (r.tau_id != kNoGaussian || r.T >= 1.0) finish(r, r, 1.0 - r.T, tau);
+        }
+        save(0u, r);
+        return;
     }
-    pick.ids = uvec4(r.best_id, r.tau_id, 0u, 0u);
-    pick.depths = vec4(r.best_depth, r.tau_depth, 0.0, 0.0);
-    pick.weights = vec4(r.best_w, opacity, tau, 0.0);
+    // The second walk, for a pixel that never reached tau: tau x its final opacity.
+    const Walk r = load(0u);
+    if (r.tau_id != kNoGaussian || r.T >= 1.0) return;
+    tau *= 1.0 - r.T;
+    Walk again = index == 0u ? fresh : load(1u);
+    walk(again, range, center, tau, ray, cam_ray.z);
+    save(1u, again);
+    if (last) finish(r, again, 1.0 - r.T, tau);
 }

@@ -36,6 +36,12 @@ PG_CONST uint kBlendSlabIds = 4u;
 PG_CONST uint kFrameHalfSh = 8u;
 PG_CONST uint kCarryWords = 12u;  // uints per pixel of carried state
 PG_CONST uint kLabelCarryWords = 20u;  // the same for the label rasterizers
+// Passes that walk a tile's list (blend, the label rasterizers, pick) take at most kTileWindow
+// of its keys per dispatch and carry the pixel state to the next window, as slabs do:
+// lavapipe silently ends an invocation's loops after a fixed number of iterations in all
+// (about 65 k), and a tile of a real-size scene can hold hundreds of thousands of keys. A
+// window costs each pixel at most kTileWindow / 256 batches of <= 545 loop iterations.
+PG_CONST uint kTileWindow = 16384u;
 // A pixel's contributors that are further apart in depth than this x the sum of their
 // standard deviations along the ray lie on different surfaces: their 3-sigma supports do not
 // meet (render/pick_pixel.comp).
@@ -70,9 +76,15 @@ struct GatherPush {
     uvec4 count;        // x: Gaussians in the slab
 };
 
+// Which window of every tile's list a dispatch walks (render/tile_window.glsl).
+struct TileWindowPush {
+    uvec4 window;       // x: window index, y: windows the frame was recorded with, z, w: unused
+};
+
 // One pixel of the last frame, picked (render/pick_pixel.comp): where a click lands.
 struct PickPush {
-    uvec4 pixel;        // x, y, unused, unused
+    uvec4 pixel;        // x, y, window index, w: 0 first walk, 1 second walk (tau x opacity)
+    uvec4 windows;      // x: windows of the pixel's tile, y, z, w: unused
 };
 struct PixelPick {
     uvec4 ids;          // dominant surface's heaviest Gaussian, tau Gaussian (kNoGaussian: none), unused, unused
@@ -81,7 +93,8 @@ struct PixelPick {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(PickPush) == 16);
+static_assert(sizeof(PickPush) == 32);
+static_assert(sizeof(TileWindowPush) == 16);
 static_assert(sizeof(GatherPush) == 16);
 static_assert(sizeof(PixelPick) == 48);
 static_assert(sizeof(FrameParams) == 192);

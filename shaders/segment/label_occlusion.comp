@@ -14,6 +14,7 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "render/render_shared.h"
+#include "render/tile_window.glsl"
 #include "render/tile_test.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
@@ -26,6 +27,17 @@ layout(std430, binding = 5) writeonly buffer LabelImage { uint label_image[]; };
 // A streamed scene's slabs pass the pixel state on (frame.capacity.w: kBlendResume / kBlendFinal).
 layout(std430, binding = 6) readonly buffer CarryIn { uint carry_in[]; };    // kLabelCarryWords per pixel
 layout(std430, binding = 7) writeonly buffer CarryOut { uint carry_out[]; };
+// The state between windows of one tile's list (kLabelCarryWords per pixel).
+layout(std430, binding = 8) readonly buffer WindowIn { uint window_in[]; };
+layout(std430, binding = 9) writeonly buffer WindowOut { uint window_out[]; };
+layout(push_constant) uniform Push { TileWindowPush pc; };
+
+// Word i of the carried state: from the last slab (first window) or the last window.
+uint carried(bool first, uint i) { return first ? carry_in[i] : window_in[i]; }
+void carry(bool last, uint i, uint v) {
+    if (last) carry_out[i] = v;
+    else window_out[i] = v;
+}
 
 const uint kSlots = 8u;             // labels > 0 tracked per pixel
 const float kMinCoverage = 0.5;     // 1 - T below this: the pixel is background (0)
@@ -49,7 +61,9 @@ void main() {
     uint width = frame.size.x, height = frame.size.y;
     bool inside = pix.x < width && pix.y < height;
     uint tile = gl_WorkGroupID.y * frame.size.z + gl_WorkGroupID.x;
-    uvec2 range = ranges[tile];
+    const TileWindow tw = tile_window(ranges[tile], pc.window.x, pc.window.y);
+    if (tw.skip) return;  // uniform over the group, before any barrier
+    const uvec2 range = tw.range;
     vec2 center = vec2(pix) + 0.5;
     uint label_count = uint(labels.length());  // reads past the label buffer give 0
 
@@ -68,14 +82,14 @@ void main() {
     }
     const uint flags = frame.capacity.w;
     const uint c = (pix.y * width + pix.x) * kLabelCarryWords;
-    if ((flags & kBlendResume) != 0u && inside) {
-        T = uintBitsToFloat(carry_in[c]);
-        w0 = uintBitsToFloat(carry_in[c + 1u]);
+    if ((!tw.first || (flags & kBlendResume) != 0u) && inside) {
+        T = uintBitsToFloat(carried(tw.first, c));
+        w0 = uintBitsToFloat(carried(tw.first, c + 1u));
         [[unroll]] for (uint s = 0u; s < kSlots; ++s) {
-            slot_label[s] = carry_in[c + 2u + s];
-            slot_w[s] = uintBitsToFloat(carry_in[c + 2u + kSlots + s]);
+            slot_label[s] = carried(tw.first, c + 2u + s);
+            slot_w[s] = uintBitsToFloat(carried(tw.first, c + 2u + kSlots + s));
         }
-        if (carry_in[c + 2u + 2u * kSlots] != 0u) {
+        if (carried(tw.first, c + 2u + 2u * kSlots) != 0u) {
             done = true;
             atomicAdd(done_count, 1u);
         }
@@ -180,14 +194,14 @@ void main() {
         if (done) atomicAdd(done_count, 1u);
     }
     if (!inside) return;
-    if ((flags & kBlendFinal) == 0u) {
-        carry_out[c] = floatBitsToUint(T);
-        carry_out[c + 1u] = floatBitsToUint(w0);
+    if (!tw.last || (flags & kBlendFinal) == 0u) {
+        carry(tw.last, c, floatBitsToUint(T));
+        carry(tw.last, c + 1u, floatBitsToUint(w0));
         [[unroll]] for (uint s = 0u; s < kSlots; ++s) {
-            carry_out[c + 2u + s] = slot_label[s];
-            carry_out[c + 2u + kSlots + s] = floatBitsToUint(slot_w[s]);
+            carry(tw.last, c + 2u + s, slot_label[s]);
+            carry(tw.last, c + 2u + kSlots + s, floatBitsToUint(slot_w[s]));
         }
-        carry_out[c + 2u + 2u * kSlots] = done ? 1u : 0u;
+        carry(tw.last, c + 2u + 2u * kSlots, done ? 1u : 0u);
         return;
     }
     uint best = 0u;

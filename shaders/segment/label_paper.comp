@@ -14,6 +14,7 @@
 // A pixel with a hit is done; the group stops once every pixel is.
 #extension GL_GOOGLE_include_directive : require
 #include "render/render_shared.h"
+#include "render/tile_window.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(std430, binding = 0) readonly buffer Frame { FrameParams frame; };
@@ -25,6 +26,10 @@ layout(std430, binding = 5) writeonly buffer LabelImage { uint label_image[]; };
 // A streamed scene's slabs pass the pixel's label on (frame.capacity.w: kBlendResume / kBlendFinal).
 layout(std430, binding = 6) readonly buffer CarryIn { uint carry_in[]; };    // kLabelCarryWords per pixel
 layout(std430, binding = 7) writeonly buffer CarryOut { uint carry_out[]; };
+// The state between windows of one tile's list (kLabelCarryWords per pixel).
+layout(std430, binding = 8) readonly buffer WindowIn { uint window_in[]; };
+layout(std430, binding = 9) writeonly buffer WindowOut { uint window_out[]; };
+layout(push_constant) uniform Push { TileWindowPush pc; };
 
 const float kRho2Max = 4.0;  // the paper's tau: squared distance, in px^2
 const uint kRuns = kBlendGroup / 8u;
@@ -49,7 +54,9 @@ void main() {
     uint width = frame.size.x, height = frame.size.y;
     bool inside = pix.x < width && pix.y < height;
     uint tile = gl_WorkGroupID.y * frame.size.z + gl_WorkGroupID.x;
-    uvec2 range = ranges[tile];
+    const TileWindow tw = tile_window(ranges[tile], pc.window.x, pc.window.y);
+    if (tw.skip) return;  // uniform over the group, before any barrier
+    const uvec2 range = tw.range;
     vec2 center = vec2(pix) + 0.5;
     uint label_count = uint(labels.length());  // reads past the label buffer give 0
     uvec2 origin = gl_WorkGroupID.xy * kTileSize;
@@ -70,7 +77,8 @@ void main() {
 
     const uint flags = frame.capacity.w;
     const uint c = (pix.y * width + pix.x) * kLabelCarryWords;
-    uint label = (flags & kBlendResume) != 0u && inside ? carry_in[c] : 0u;
+    const bool resume = inside && (!tw.first || (flags & kBlendResume) != 0u);
+    uint label = resume ? (tw.first ? carry_in[c] : window_in[c]) : 0u;
     bool done = !inside || label != 0u;  // an earlier slab's hit is in front of this slab's
     if (done) atomicAdd(done_count, 1u);
 
@@ -121,6 +129,7 @@ void main() {
         }
     }
     if (!inside) return;
-    if ((flags & kBlendFinal) == 0u) carry_out[c] = label;
+    if (!tw.last) window_out[c] = label;
+    else if ((flags & kBlendFinal) == 0u) carry_out[c] = label;
     else label_image[pix.y * width + pix.x] = label;
 }

@@ -304,4 +304,21 @@ TestScene dense_scene() {
     return s;
 }
 
+TestScene crowded_tile_scene(size_t n) {
+    TestScene s;
+    s.cloud.sh_degree = 0;
+    Rng rng(4711);
+    // Identity camera, f 100, 32x32: the box x, y in [-0.07, 0.07] at z 2 projects into the
+    // first tile. Opacity 0.0045 is just above 1/255, so each splat reaches at most one pixel
+    // centre: the tile holds n keys while each pixel blends only a few hundred of them.
+    for (size_t j = 0; j < n; ++j) {
+        const glm::vec3 mean(rng.uniform(-0.155f, -0.005f), rng.uniform(-0.155f, -0.005f), rng.uniform(1.9f, 2.1f));
+        add_gaussian(s.cloud, mean, glm::vec3(std::log(1e-4f)), rng.rotation(), std::log(0.0045f / 0.9955f),
+                     dc_from_rgb(glm::vec3(rng.uniform(), rng.uniform(), rng.uniform())));
+    }
+    s.cameras.push_back(look_at_camera("crowded", glm::dvec3(0.0), glm::dvec3(0.0, 0.0, 1.0), glm::dvec3(0.0, -1.0, 0.0),
+                                       32, 32, 100.0, 100.0, 16.0, 16.0));
+    return s;
+}
+
 }  // namespace pg::ref

@@ -57,6 +57,7 @@ TestScene sh3_scene();               // degree 3 with strong view-dependent term
 TestScene sh0_scene();               // degree 0 only
 TestScene flat_2dgs_scene();         // flat surfels, log_scale.z = kFlatLogScale, some edge-on
 TestScene dense_scene();             // many opaque overlapping Gaussians: T reaches 1e-4 early
+TestScene crowded_tile_scene(size_t n);  // n faint point-like Gaussians in one tile, none saturating
 
 // Near plane the edge-case scenes are built around (the renderer default).
 constexpr float kTestNear = 0.2f;

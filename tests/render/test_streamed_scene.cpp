@@ -98,6 +98,10 @@ TEST_CASE("a streamed scene renders like the resident one with a style (labels g
     check_streamed(scene, 5000, &style);
 }
 
+TEST_CASE("a streamed tile of 300k Gaussians is walked in windows inside each slab, like the resident one") {
+    check_streamed(ref::crowded_tile_scene(300000), 100000);
+}
+
 TEST_CASE("a slab whose tile keys would pass the binding limit is drawn in smaller slabs") {
     // Large Gaussians touch most tiles: 4096 of them need far more keys than a binding of
     // 4096 x 48 bytes holds (24,576), so the renderer halves the slab until they fit.

@@ -2,6 +2,7 @@
 // plus hand-made cases whose answer is known without either.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -133,6 +134,40 @@ TEST_CASE("label raster matches the reference on a dense scene") { check_scene(r
 TEST_CASE("label raster matches the reference with a full-screen Gaussian") { check_scene(ref::fullscreen_scene(), 400); }
 TEST_CASE("label raster matches the reference on flat 2DGS surfels") { check_scene(ref::flat_2dgs_scene(), 500); }
 TEST_CASE("label raster matches the reference with degenerate scales") { check_scene(ref::degenerate_scales_scene(), 600); }
+
+TEST_CASE("label raster walks a tile of 200k Gaussians window by window like the reference") {
+    check_scene(ref::crowded_tile_scene(200000), 700);
+}
+
+TEST_CASE("label raster of a streamed tile of 200k Gaussians: windows inside slabs, as the resident frame") {
+    const auto scene = ref::crowded_tile_scene(200000);
+    const auto& cam = scene.cameras[0];
+    auto& ctx = test::gpu();
+    render::SceneBudget budget;
+    budget.max_binding_bytes = uint64_t(70000) * 48;  // slabs of about 70 k Gaussians
+    render::GpuScene resident(ctx, scene.cloud), streamed(ctx, scene.cloud, budget);
+    REQUIRE(streamed.streamed());
+    const auto labels = random_labels(scene.cloud.size(), 0.9f, 3, 800);
+    const auto buffer = vk::upload_vector(ctx, labels, "labels");
+    render::Renderer a(ctx), b(ctx);
+    seg::LabelRasterizer ra(ctx), rb(ctx);
+    a.render(resident, cam, {});
+    REQUIRE(a.tile_windows() > 1);
+    for (seg::LabelMode mode : {seg::LabelMode::Paper, seg::LabelMode::Occlusion}) {
+        const auto want = ra.rasterize_and_read(a, buffer, mode);
+        vk::Buffer image;
+        vk::CommandList cmd(ctx);
+        uint32_t most_windows = 0;  // a slab is recorded again when it needs more windows than planned
+        b.render(streamed, cam, {}, nullptr, [&](vk::CommandList& c, const render::SlabPass& slab) {
+            most_windows = std::max(most_windows, slab.windows);
+            rb.rasterize_slab(c, b, slab, buffer, image, mode);
+        });
+        CHECK(b.slabs() >= 3);
+        CHECK(most_windows > 1);
+        CHECK(vk::download_vector<uint32_t>(ctx, image, want.size()) == want);
+        CHECK(std::count(want.begin(), want.end(), 0u) < long(want.size()) - 48);  // most of the 8x8 crowd
+    }
+}
 
 TEST_CASE("paper mode takes a labelled centre behind an opaque unlabelled Gaussian, occlusion mode hides it") {
     data::GaussianCloud cloud;
