@@ -8,6 +8,7 @@
 
 #include "app/common/ptv3_classifier.h"
 #include "app/common/ptv3_decoder.h"
+#include "app/common/staged_output.h"
 #include "dataset/atomic_file.h"
 #include "dataset/error.h"
 #include "dataset/formats/camera_io.h"
@@ -100,8 +101,10 @@ ClassLabels JobEngine::label_by_class(const std::string& model, const std::atomi
 void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::atomic<size_t>& total,
                       const std::atomic<bool>& cancel) {
     const fs::path out = rq.folder;
-    if (fs::exists(out) && !fs::is_directory(out)) throw data::InputError(out.string(), "exists and is not a folder");
-    fs::create_directories(out);
+    // Written into a staging folder and moved into `out` only when whole, as segment does: a
+    // failure or a cancel part-way leaves `out` as it was.
+    app::StagedOutput staged(out);
+    const fs::path dir = staged.dir();
     std::vector<fs::path> inputs{scene_.scene_path};
     if (!scene_.cameras_path.empty()) inputs.push_back(scene_.cameras_path);
     // Without objects (class labels alone) the object outputs are left out.
@@ -121,7 +124,7 @@ void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::a
     if (rq.scene && sog) {
         // SOG holds no labels: the scene as it was loaded, for the web viewers.
         seg::refuse_overwriting(out / "scene.sog", inputs);
-        write_sog(scene_.cloud, out / "scene.sog");
+        write_sog(scene_.cloud, dir / "scene.sog");
     } else if (rq.scene) {
         seg::refuse_overwriting(out / "scene.ply", inputs);
         if (rq.classes && objects_labelled) {
@@ -130,19 +133,19 @@ void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::a
             data::GaussianCloud labelled = scene_.cloud;
             labelled.set_int_property("instance", labels);
             labelled.set_int_property("class", rq.classes->classes);
-            data::write_ply(labelled, out / "scene.ply");
+            data::write_ply(labelled, dir / "scene.ply");
         } else if (rq.classes) {
-            seg::write_labelled_scene(scene_.cloud, rq.classes->classes, out / "scene.ply", "class");
+            seg::write_labelled_scene(scene_.cloud, rq.classes->classes, dir / "scene.ply", "class");
         } else {
-            seg::write_labelled_scene(scene_.cloud, labels, out / "scene.ply");
+            seg::write_labelled_scene(scene_.cloud, labels, dir / "scene.ply");
         }
     }
     if (rq.objects && objects_labelled)
-        seg::write_object_files(scene_.cloud, labels, objects, out / "objects", sog ? seg::CloudWriter(write_sog) : nullptr,
+        seg::write_object_files(scene_.cloud, labels, objects, dir / "objects", sog ? seg::CloudWriter(write_sog) : nullptr,
                                 sog ? ".sog" : ".ply");
     if (rq.prompts) {
-        data::write_prompts(rq.prompts_json, out / "prompts.json");
-        if (scene_.cameras_path.empty()) data::write_inria_cameras_json(scene_.cameras, out / "cameras.json");
+        data::write_prompts(rq.prompts_json, dir / "prompts.json");
+        if (scene_.cameras_path.empty()) data::write_inria_cameras_json(scene_.cameras, dir / "cameras.json");
     }
     std::map<std::string, double> mask_ms;
     if (rq.masks && objects_labelled && !scene_.cameras.empty()) {
@@ -155,8 +158,9 @@ void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::a
             done = n;
             return !cancel.load();
         };
-        mask_ms = seg::write_view_masks(ctx_, gpu_scene_, labels, scene_.cameras, views, out, vo);
+        mask_ms = seg::write_view_masks(ctx_, gpu_scene_, labels, scene_.cameras, views, dir, vo);
     }
+    if (cancel.load()) return;  // the staging folder goes with `staged`: nothing lands in `out`
 
     // What `pointgauss segment` needs to replay the prompts exactly.
     const glm::dvec3 up = scene_.options.up;
@@ -198,7 +202,8 @@ void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::a
     }
     for (auto& [name, ms] : rq.stage_ms) report["stage_ms"][name] = ms;
     for (auto& [name, ms] : mask_ms) report["stage_ms"][name] = ms;
-    data::write_atomically(out / "report.json", [&](std::ostream& os) { os << report.dump(2) << "\n"; });
+    data::write_atomically(dir / "report.json", [&](std::ostream& os) { os << report.dump(2) << "\n"; });
+    staged.commit();
 }
 
 }  // namespace pg::viewer

@@ -272,7 +272,7 @@ void Presenter::end_once(VkCommandBuffer cmd) {
     si.pCommandBuffers = &cmd;
     {
         std::lock_guard lock(ctx_.queue_mutex());
-        PG_VK(vkQueueSubmit(ctx_.queue(), 1, &si, fence_));
+        vk::check(ctx_.queue_submit(si, fence_), "vkQueueSubmit");
     }
     PG_VK(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX));
     PG_VK(vkResetFences(device_, 1, &fence_));
@@ -379,7 +379,7 @@ bool Presenter::present_impl(int width, int height, UiRecorder& ui, bool capture
     VkResult pr;
     {
         std::lock_guard lock(ctx_.queue_mutex());
-        PG_VK(vkQueueSubmit(ctx_.queue(), 1, &si, fence_));
+        vk::check(ctx_.queue_submit(si, fence_), "vkQueueSubmit");
         pr = vkQueuePresentKHR(ctx_.queue(), &pi);
     }
     PG_VK(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX));

@@ -201,8 +201,7 @@ void CommandList::submit_and_wait() {
     si.pCommandBuffers = &cmd_;
     {
         std::lock_guard lock(ctx_.queue_mutex());
-        check(ctx_.submit_fault() ? VK_ERROR_OUT_OF_DEVICE_MEMORY : vkQueueSubmit(ctx_.queue(), 1, &si, fence_),
-              "vkQueueSubmit");
+        check(ctx_.queue_submit(si, fence_), "vkQueueSubmit");
     }
     PG_VK(vkWaitForFences(ctx_.device(), 1, &fence_, VK_TRUE, UINT64_MAX));
     PG_VK(vkResetFences(ctx_.device(), 1, &fence_));

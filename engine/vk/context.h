@@ -99,9 +99,13 @@ public:
         return options_.fail_allocations_after >= 0 && allocations_.fetch_add(1) >= options_.fail_allocations_after;
     }
 
-    // True when this queue submission is to fail (ContextOptions::fail_submits_after).
-    bool submit_fault() {
-        return options_.fail_submits_after >= 0 && submits_.fetch_add(1) >= options_.fail_submits_after;
+    // vkQueueSubmit on the queue, or VK_ERROR_OUT_OF_DEVICE_MEMORY where the fault injection
+    // (ContextOptions::fail_submits_after) says this submission fails. Every submission goes
+    // through here. The caller holds queue_mutex().
+    VkResult queue_submit(const VkSubmitInfo& info, VkFence fence) {
+        if (options_.fail_submits_after >= 0 && submits_.fetch_add(1) >= options_.fail_submits_after)
+            return VK_ERROR_OUT_OF_DEVICE_MEMORY;
+        return vkQueueSubmit(queue_, 1, &info, fence);
     }
 
     // Validation messages seen so far (warnings and errors); tests fail when non-zero.

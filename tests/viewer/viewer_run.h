@@ -15,14 +15,20 @@
 
 namespace pg::test {
 
-inline Run run_viewer(const std::string& args) {
+// `env`: assignments put before the command (NAME=value ...).
+inline Run run_viewer(const std::string& args, const std::string& env = "") {
     REQUIRE(std::system("command -v xvfb-run >/dev/null 2>&1") == 0);  // tools/setup.sh installs xvfb
-    const std::string command = "xvfb-run -a -s '-screen 0 1280x1024x24' " + std::string(PG_VIEWER) + " " + args;
+    const std::string command =
+        env + (env.empty() ? "" : " ") + "xvfb-run -a -s '-screen 0 1280x1024x24' " + std::string(PG_VIEWER) + " " + args;
+    // Under parallel tests xvfb-run can fail around the viewer: it exits 5 when removing its own
+    // temporary folder fails (the viewer's exit status is lost), and `-a` can hand two servers
+    // the same display number, so one viewer finds no display. Such a run is repeated.
+    auto xvfb_failed = [](const Run& r) {
+        return (r.code == 5 && r.out.find("problem while cleaning up temporary directory") != std::string::npos) ||
+               (r.code == 1 && r.out.find("X11: Failed to open display") != std::string::npos);
+    };
     Run r = run_command(command);
-    // xvfb-run exits 5 when removing its own temporary folder fails (seen under parallel tests):
-    // the viewer's exit status is lost then, so the run is repeated once.
-    if (r.code == 5 && r.out.find("problem while cleaning up temporary directory") != std::string::npos)
-        r = run_command(command);
+    for (int again = 0; again < 2 && xvfb_failed(r); ++again) r = run_command(command);
     return r;
 }
 
