@@ -170,6 +170,26 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, WalkProblem&& pr, const Wa
 
 WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, std::vector<float> start,
                                const WalkOptions& o) {
+    const size_t want = size_t(graph.nodes()) * pr.labels;
+    if (!start.empty() && start.size() != want)
+        throw data::InputError("random walker starting point",
+                               "has " + std::to_string(start.size()) + " values, expected " + std::to_string(want));
+    const bool started = !start.empty();
+    LabelColumns x = started ? LabelColumns::dense(std::move(start), pr.labels)
+                             : LabelColumns(graph.nodes(), pr.labels, false);
+    WalkResult out = solve(graph, pr, x, started, o);
+    out.x = x.take_dense();
+    return out;
+}
+
+WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, LabelColumns& x, const WalkOptions& o) {
+    const bool started = !x.empty();
+    if (!started) x = LabelColumns(graph.nodes(), pr.labels, pr.labels > o.dense_labels);
+    return solve(graph, pr, x, started, o);
+}
+
+WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, LabelColumns& x, bool started,
+                               const WalkOptions& o) {
     const uint32_t n = graph.nodes(), total = pr.labels;
     auto sized = [&](size_t got, size_t want, const char* what) {
         if (got != 0 && got != want)
@@ -180,15 +200,20 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, std
     if (pr.seed.empty() && n) throw data::InputError("random walker seeds", "are missing");
     sized(pr.gamma.size(), n, "unary strengths");
     sized(pr.prior.size(), size_t(n) * total, "priors");
-    sized(start.size(), size_t(n) * total, "starting point");
+    if (x.nodes() != n || x.labels() != total)
+        throw data::InputError("random walker starting point", "holds " + std::to_string(x.nodes()) + " nodes x " +
+                                                                   std::to_string(x.labels()) + " labels, expected " +
+                                                                   std::to_string(n) + " x " + std::to_string(total));
     for (int32_t s : pr.seed)
         if (s < -1 || s >= int32_t(total)) throw data::InputError("random walker seeds", "hold a label out of range");
     WalkResult out;
-    // The answer takes the start's place, column batch by column batch.
-    const bool started = !start.empty();
-    out.x = std::move(start);
-    if (!started) out.x.assign(size_t(n) * total, 0.0f);
     if (n == 0 || total == 0) return out;
+    // The answer takes the start's place in x, column batch by column batch (dense: a batch's
+    // columns are read before its answer overwrites them). A sparse node's few values are shared
+    // by all its columns, so there the answer is gathered apart and replaces the start at the end.
+    LabelColumns apart;
+    if (started && x.sparse()) apart = LabelColumns(n, total, true);
+    LabelColumns& answer = apart.empty() ? x : apart;
 
     const uint32_t node_groups = vk::ceil_div(n, gpu::kGraphGroup);
     std::vector<float> gamma = pr.gamma.empty() ? std::vector<float>(n, 0.0f) : pr.gamma;
@@ -224,7 +249,9 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, std
         };
         auto prior = columns(pr.prior);
         vk::upload(ctx_, prior_, prior.data(), bytes);
-        auto x0 = started ? columns(out.x) : prior;
+        std::vector<float> x0;
+        if (started) x.read(base, labels, width, x0);
+        else x0 = prior;
         // Multigrid first; a batch in which some column made no progress at all (its residual
         // never fell below half its start: the V-cycle's float arithmetic diverging on it) is
         // solved again from the same start with the Jacobi preconditioner, slow but steady.
@@ -365,16 +392,16 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, std
         }
         out.iterations = std::max(out.iterations, it);
         out.residual = std::max(out.residual, answered);
-        auto x = vk::download_vector<float>(ctx_, x_, size_t(n) * width);
+        auto columns_out = vk::download_vector<float>(ctx_, x_, size_t(n) * width);
         if (from_best) {
             const auto kept = vk::download_vector<float>(ctx_, best_x_, size_t(n) * width);
             for (uint32_t i = 0; i < n; ++i)
                 for (uint32_t l = 0; l < labels; ++l)
-                    if (from_best >> l & 1u) x[size_t(i) * width + l] = kept[size_t(i) * width + l];
+                    if (from_best >> l & 1u) columns_out[size_t(i) * width + l] = kept[size_t(i) * width + l];
         }
-        for (uint32_t i = 0; i < n; ++i)
-            for (uint32_t l = 0; l < labels; ++l) out.x[size_t(i) * total + base + l] = x[size_t(i) * width + l];
+        answer.write(base, labels, width, columns_out);
     }
+    if (!apart.empty()) x = std::move(apart);
     return out;
 }
 

@@ -12,7 +12,9 @@
 
 #include "engine/segment/cancel.h"
 #include "engine/segment/knn_graph.h"
+#include "engine/segment/label_columns.h"
 #include "engine/segment/walk_hierarchy.h"
+#include "shaders/segment/graph_shared.h"
 
 namespace pg::seg {
 
@@ -35,6 +37,9 @@ struct WalkOptions {
     float coarse_scale = 1.0f;      // multigrid: the coarse correction's scale
     HierarchyOptions hierarchy;
     const std::atomic<bool>* cancel = nullptr;  // set: the solve stops (Cancelled) at its next check
+    // Past this many labels an answer held as LabelColumns keeps each node's few largest values
+    // only (memory flat in the label count); the node-major vector API is always dense.
+    uint32_t dense_labels = 32;
 };
 
 struct WalkResult {
@@ -54,6 +59,11 @@ public:
     // label columns is read from it before its answer is written there): with many labels the
     // start and the answer, nodes x labels floats each, are not held twice.
     WalkResult solve(const KnnGraph& graph, WalkProblem&& problem, const WalkOptions& options = {});
+    // The same with the start and the answer in `x` (the problem's start unused): x empty, the
+    // solve starts from the prior (or 0) and x becomes the answer, sparse past
+    // options.dense_labels labels; else x is the start and the answer replaces it. Its
+    // WalkResult::x stays empty.
+    WalkResult solve(const KnnGraph& graph, const WalkProblem& problem, LabelColumns& x, const WalkOptions& options = {});
     const std::vector<vk::PassTiming>& timings() const { return timings_; }
 
     // For tests: the multigrid V-cycle z = B r on the GPU for `problem`'s operator (labels <=
@@ -65,6 +75,9 @@ public:
 
 private:
     WalkResult solve(const KnnGraph& graph, const WalkProblem& problem, std::vector<float> start,
+                     const WalkOptions& options);
+    // started: x holds the start; else the prior (or 0) starts and x, zero, takes the answer.
+    WalkResult solve(const KnnGraph& graph, const WalkProblem& problem, LabelColumns& x, bool started,
                      const WalkOptions& options);
     // One level of the multigrid hierarchy on the device (level 0's operator is the graph's
     // rows with edge_columns_ / edge_weights_; its r and z are the solve's r_ and z_).

@@ -180,13 +180,14 @@ private:
     struct CoarseSolve {
         std::vector<uint32_t> members;  // coarse node -> fine node
         std::vector<int32_t> seed;      // per coarse node
-        WalkResult walk;                // over the coarse nodes
+        WalkResult walk;                // over the coarse nodes; its answer in x
+        LabelColumns x;
         std::vector<uint32_t> nearest;  // fine node -> its nearest coarse node (kNoCoarse: none)
     };
     CoarseSolve coarse_solve(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine,
                              bool spread_clicks, bool scene_order);
     // A starting point for the fine solve: each node starts from its nearest coarse node's answer.
-    std::vector<float> coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine);
+    LabelColumns coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine);
     Anchor anchor_for(const data::PromptClick& click, const SegmentOptions& o, const std::string& what);
 
     vk::Context& ctx_;
@@ -201,8 +202,8 @@ private:
     SeededForest forest_;
     std::vector<uint32_t> graph_domain_;  // the domain graph_ was built over, and with which options
     GraphOptions graph_built_with_;
-    // The last walk's answer (node-major, a column per label id in last_ids_, 0: background), for warm starts.
-    std::vector<float> last_solution_;
+    // The last walk's answer (a column per label id in last_ids_, 0: background), for warm starts.
+    LabelColumns last_solution_;
     std::vector<int> last_ids_;
 };
 

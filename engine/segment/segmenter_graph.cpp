@@ -45,16 +45,12 @@ std::vector<uint8_t> seeded_components(const std::vector<uint32_t>& root, const 
 
 // Per node: whether its connected component holds a seed, a prior or a coarse start (the
 // coarse graph, sparser, joins what the fine kNN graph splits); counts the others.
-std::vector<uint8_t> reached_components(const std::vector<uint32_t>& root, const WalkProblem& pr, GraphReport& report) {
+std::vector<uint8_t> reached_components(const std::vector<uint32_t>& root, const WalkProblem& pr,
+                                        const LabelColumns& start, GraphReport& report) {
     const uint32_t n = uint32_t(root.size());
     auto find = [&](uint32_t i) { return root[i]; };
     std::vector<uint8_t> root_reached(n, 0), seen(n, 0), reached(n, 0);
-    auto started = [&](uint32_t i) {
-        if (pr.start.empty()) return false;
-        for (uint32_t l = 0; l < pr.labels; ++l)
-            if (pr.start[size_t(i) * pr.labels + l] > 0) return true;
-        return false;
-    };
+    auto started = [&](uint32_t i) { return !start.empty() && start.any_positive(i); };
     for (uint32_t i = 0; i < n; ++i)
         if (pr.seed[i] >= 0 || (!pr.gamma.empty() && pr.gamma[i] > 0) || started(i)) root_reached[find(i)] = 1;
     for (uint32_t i = 0; i < n; ++i) {
@@ -130,29 +126,6 @@ GraphDomain graph_domain(const data::GaussianCloud& cloud, const std::vector<Obj
     return d;
 }
 
-// Each node's most likely label in a walk's solution (labels per node) and that label's share
-// of the probability; -1 where all are 0 or the node is not reached (reached null: all are).
-struct WalkLabels {
-    std::vector<int32_t> arg;
-    std::vector<float> share;
-};
-WalkLabels walk_labels(const std::vector<float>& x, uint32_t labels, const std::vector<uint8_t>* reached) {
-    const size_t nodes = labels ? x.size() / labels : 0;
-    WalkLabels w{std::vector<int32_t>(nodes, -1), std::vector<float>(nodes, 0.0f)};
-    for (size_t i = 0; i < nodes; ++i) {
-        if (reached && !(*reached)[i]) continue;
-        float sum = 0, best = 0;
-        for (uint32_t l = 0; l < labels; ++l) {
-            const float v = std::max(0.0f, x[i * labels + l]);
-            sum += v;
-            if (v > best) best = v, w.arg[i] = int32_t(l);
-        }
-        w.share[i] = sum > 0 ? best / sum : 0.0f;
-        if (sum <= 0) w.arg[i] = -1;
-    }
-    return w;
-}
-
 // walk+forest: the walk's label stands where its share reaches `sure`; from there (and the
 // seeds) the forest's widest paths settle the rest. Per node: label (-1: none) and confidence
 // (the walk's share where it agrees, else 1/2).
@@ -222,7 +195,7 @@ Segmenter::CoarseSolve Segmenter::coarse_solve(const SegmentOptions& o, const st
             std::copy_n(&fine.prior[size_t(cs.members[c]) * labels], labels, &cp.prior[size_t(c) * labels]);
         }
     }
-    cs.walk = walker_.solve(coarse_graph_, cp, o.walk);
+    cs.walk = walker_.solve(coarse_graph_, cp, cs.x, o.walk);
     cs.seed = std::move(cp.seed);
     // Each fine node's nearest coarse node.
     std::vector<glm::vec3> positions(m);
@@ -235,14 +208,13 @@ Segmenter::CoarseSolve Segmenter::coarse_solve(const SegmentOptions& o, const st
     return cs;
 }
 
-std::vector<float> Segmenter::coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain,
-                                           const WalkProblem& fine) {
+LabelColumns Segmenter::coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain,
+                                     const WalkProblem& fine) {
     // Each fine node starts from its nearest coarse node's answer, so the fine solve only sharpens it.
     const CoarseSolve cs = coarse_solve(o, domain, fine, false, true);
-    const uint32_t labels = fine.labels;
-    std::vector<float> start(domain.size() * labels, 0.0f);
-    for (size_t i = 0; i < domain.size(); ++i)
-        if (cs.nearest[i] != kNoCoarse) std::copy_n(&cs.walk.x[size_t(cs.nearest[i]) * labels], labels, &start[i * labels]);
+    LabelColumns start(uint32_t(domain.size()), fine.labels, cs.x.sparse());
+    for (uint32_t i = 0; i < domain.size(); ++i)
+        if (cs.nearest[i] != kNoCoarse) start.copy_node(i, cs.x, cs.nearest[i]);
     return start;
 }
 
@@ -260,7 +232,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         graph_.build(scene_, cloud_, d.domain, o.graph_options);
         graph_domain_ = d.domain;
         graph_built_with_ = o.graph_options;
-        last_solution_.clear();
+        last_solution_ = LabelColumns();
         last_ids_.clear();
     }
     result.stage_ms["graph build"] += ms_since(t0);
@@ -340,7 +312,7 @@ bool Segmenter::early_coarse_answer(const SegmentOptions& o, const std::vector<O
     // order broke the real guitar's stand into pieces the guitar took: 3D IoU 51 / 17 % against
     // 94 / 51 % so).
     const CoarseSolve cs = coarse_solve(o, d.domain, early, true, false);
-    const WalkLabels w = walk_labels(cs.walk.x, early.labels, nullptr);
+    const WalkLabels w = cs.x.most_likely(nullptr);
     NodeLabels coarse{w.arg, w.share, 0};
     if (o.solver == GraphSolver::WalkForest) coarse = walk_then_forest(forest_, coarse_graph_, cs.seed, w, o.walk_sure, o.forest);
     std::vector<int32_t> label(nodes, -1);
@@ -433,14 +405,16 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
         auto it = std::find(last_ids_.begin(), last_ids_.end(), ids[l]);
         if (it != last_ids_.end()) last_column[l] = int(it - last_ids_.begin()), warm = true;
     }
+    LabelColumns start;  // empty: the walk starts from the prior (or 0)
     if (warm) {
-        const size_t last_labels = last_ids_.size();
-        pr.start.assign(size_t(nodes) * labels, 0.0f);
-        for (uint32_t l = 0; l < labels; ++l)
-            for (uint32_t i = 0; i < nodes; ++i)
-                pr.start[size_t(i) * labels + l] =
-                    last_column[l] >= 0 ? last_solution_[i * last_labels + size_t(last_column[l])]
-                                        : (pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l]);
+        start = LabelColumns(nodes, labels, labels > o.walk.dense_labels);
+        std::vector<float> values(labels);
+        for (uint32_t i = 0; i < nodes; ++i) {
+            for (uint32_t l = 0; l < labels; ++l)
+                values[l] = last_column[l] >= 0 ? last_solution_.at(i, uint32_t(last_column[l]))
+                                                : (pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l]);
+            start.set_node(i, values.data());
+        }
     }
     auto t0 = Clock::now();
     const auto root = component_roots(graph_, nbr);
@@ -456,27 +430,26 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
         const bool needed = !multigrid || std::count(seeded.begin(), seeded.end(), 0) > 0;
         if (needed || o.on_coarse) {
             auto t1 = Clock::now();
-            auto start = coarse_start(o, domain, pr);
+            auto coarse = coarse_start(o, domain, pr);
             result.stage_ms["graph coarse start"] += ms_since(t1);
             if (o.on_coarse) {
-                const WalkLabels w = walk_labels(start, labels, nullptr);
+                const WalkLabels w = coarse.most_likely(nullptr);
                 coarse_answer(o, objects, domain, w.arg, w.share, result);
             }
             if (needed) {
-                pr.start = std::move(start);
+                start = std::move(coarse);
+                const std::vector<float> zero(labels, 0.0f);
                 for (uint32_t i = 0; multigrid && i < nodes; ++i)
-                    if (seeded[i])
-                        for (uint32_t l = 0; l < labels; ++l)
-                            pr.start[size_t(i) * labels + l] = pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l];
+                    if (seeded[i]) start.set_node(i, pr.prior.empty() ? zero.data() : &pr.prior[size_t(i) * labels]);
             }
         }
     }
     GraphReport report = graph_report(graph_, GraphSolver::Walk, pr.seed);
     // A component of the graph with no seed, prior or coarse start has no answer (its system is
     // singular and keeps whatever it started from): it stays unlabelled and is counted.
-    const auto reached = reached_components(root, pr, report);
+    const auto reached = reached_components(root, pr, start, report);
     t0 = Clock::now();
-    auto solution = walker_.solve(graph_, std::move(pr), o.walk);  // the start becomes the answer's storage
+    auto solution = walker_.solve(graph_, pr, start, o.walk);  // the start becomes the answer
     result.stage_ms["graph walk"] += ms_since(t0);
 
     report.iterations = solution.iterations;
@@ -487,8 +460,8 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
     for (const auto& t : walker_.timings()) result.stage_ms["graph walk gpu"] += t.ms;
     report.residual = solution.residual;
     // Each reached node's most likely label and its share of the probability.
-    const WalkLabels w = walk_labels(solution.x, labels, &reached);
-    last_solution_ = std::move(solution.x);  // kept for the next click's warm start
+    const WalkLabels w = start.most_likely(&reached);
+    last_solution_ = std::move(start);  // kept for the next click's warm start
     last_ids_ = ids;
     if (o.solver == GraphSolver::WalkForest) {
         // Where the walk is sure it stands; the forest's widest paths settle the rest, without
@@ -522,7 +495,7 @@ void Segmenter::solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>
                 seed[i] = int32_t(std::max_element(q, q + labels) - q);
             }
     auto forest = forest_.solve(graph_, seed, o.forest);
-    last_solution_.clear();  // the walk's warm start does not apply to hard labels
+    last_solution_ = LabelColumns();  // the walk's warm start does not apply to hard labels
     last_ids_.clear();
 
     GraphReport report = graph_report(graph_, GraphSolver::Forest, seed);
@@ -532,7 +505,7 @@ void Segmenter::solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>
     WalkProblem seeds_only;
     seeds_only.labels = labels;
     seeds_only.seed = std::move(seed);
-    reached_components(component_roots(graph_, nbr), seeds_only, report);
+    reached_components(component_roots(graph_, nbr), seeds_only, LabelColumns(), report);
     for (uint32_t i = 0; i < nodes; ++i)
         if (forest.label[i] > 0) objects[size_t(forest.label[i]) - 1]->claims.push_back({domain[i], 1.0f});
     result.graph = report;
