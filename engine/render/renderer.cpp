@@ -62,7 +62,7 @@ Renderer::Renderer(vk::Context& ctx)
       args_(ctx, 16, vk::MemoryUse::Device, "render indirect args"),
       no_style_(ctx, 16, vk::MemoryUse::Device, "no render style"),
       pick_(ctx, sizeof(gpu::PixelPick), vk::MemoryUse::Device, "pixel pick"),
-      pick_state_(ctx, 2 * 14 * 4, vk::MemoryUse::Device, "pixel pick walks"),
+      pick_state_(ctx, 2 * gpu::kPickWalkWords * 4, vk::MemoryUse::Device, "pixel pick walks"),
       slab_(ctx, "render slab") {}
 
 void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, const RenderSettings& settings,

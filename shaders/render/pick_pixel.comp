@@ -22,7 +22,7 @@ layout(std430, binding = 2) readonly buffer Values { uint values[]; };
 layout(std430, binding = 3) readonly buffer Ranges { uvec2 ranges[]; };
 layout(std430, binding = 4) readonly buffer Shapes { vec4 shapes[]; };  // log-scale xyz, quaternion wxyz
 layout(std430, binding = 5) writeonly buffer Out { PixelPick pick; };
-layout(std430, binding = 6) buffer State { uint state[]; };  // the two walks, kWalkWords each
+layout(std430, binding = 6) buffer State { uint state[]; };  // the two walks, kPickWalkWords each
 layout(push_constant) uniform Push { PickPush pc; };
 
 struct Walk {
@@ -37,10 +37,9 @@ struct Walk {
     float last_depth, last_size;
     bool stopped;  // transmittance would have fallen under the floor
 };
-const uint kWalkWords = 14u;
 
 void save(uint slot, Walk r) {
-    const uint b = slot * kWalkWords;
+    const uint b = slot * kPickWalkWords;
     state[b] = floatBitsToUint(r.T);
     state[b + 1u] = floatBitsToUint(r.tau_depth);
     state[b + 2u] = r.tau_id;
@@ -58,7 +57,7 @@ void save(uint slot, Walk r) {
 }
 
 Walk load(uint slot) {
-    const uint b = slot * kWalkWords;
+    const uint b = slot * kPickWalkWords;
     return Walk(uintBitsToFloat(state[b]), uintBitsToFloat(state[b + 1u]), state[b + 2u], state[b + 3u],
                 uintBitsToFloat(state[b + 4u]), uintBitsToFloat(state[b + 5u]), uintBitsToFloat(state[b + 6u]),
                 state[b + 7u], uintBitsToFloat(state[b + 8u]), uintBitsToFloat(state[b + 9u]), state[b + 10u],
