@@ -7,7 +7,6 @@
 #include "app/common/progress.h"
 #include "dataset/error.h"
 #include "dataset/formats/scene_io.h"
-#include "dataset/formats/sog_writer.h"
 #include "engine/compress/sog_quantizer.h"
 #include "engine/segment/export.h"
 #include "engine/vk/context.h"
@@ -37,7 +36,7 @@ void run_convert(const ConvertArgs& a) {
         vk::ContextOptions co;
         co.device = a.device.device;
         vk::Context ctx(co);
-        data::write_sog(cloud, out, compress::gpu_sog_quantizer(ctx, a.iterations, a.seed));
+        compress::gpu_sog_writer(ctx, a.iterations, a.seed)(cloud, out);
     }
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("wrote %s: %zu Gaussians, SH %d, %.1f s\n", a.out.c_str(), cloud.size(), cloud.sh_degree, s);

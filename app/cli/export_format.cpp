@@ -2,7 +2,6 @@
 #include "app/cli/export_format.h"
 
 #include "dataset/error.h"
-#include "dataset/formats/sog_writer.h"
 #include "engine/compress/sog_quantizer.h"
 
 namespace pg::app {
@@ -29,11 +28,9 @@ void write_3d_outputs(vk::Context& ctx, const std::string& format, const data::G
         seg::write_object_files(cloud, labels, objects, stage / objects_folder);
         return;
     }
-    const data::SogQuantizer quantizer = compress::gpu_sog_quantizer(ctx);
-    data::write_sog(cloud, stage / "scene.sog", quantizer);
-    seg::write_object_files(
-        cloud, labels, objects, stage / objects_folder,
-        [&](const data::GaussianCloud& c, const std::filesystem::path& p) { data::write_sog(c, p, quantizer); }, ".sog");
+    const auto write_sog = compress::gpu_sog_writer(ctx);
+    write_sog(cloud, stage / "scene.sog");
+    seg::write_object_files(cloud, labels, objects, stage / objects_folder, write_sog, ".sog");
 }
 
 }  // namespace pg::app

@@ -13,7 +13,6 @@
 #include "dataset/error.h"
 #include "dataset/formats/camera_io.h"
 #include "dataset/formats/scene_io.h"
-#include "dataset/formats/sog_writer.h"
 #include "engine/compress/sog_quantizer.h"
 #include "engine/segment/export.h"
 #include "engine/segment/prompt_encoder.h"
@@ -118,9 +117,7 @@ void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::a
         colours[o.id] = o.colour;
     }
     const bool sog = rq.format == "sog";
-    data::SogQuantizer quantizer;
-    if (sog) quantizer = compress::gpu_sog_quantizer(ctx_);
-    auto write_sog = [&](const data::GaussianCloud& c, const fs::path& p) { data::write_sog(c, p, quantizer); };
+    const seg::CloudWriter write_sog = sog ? compress::gpu_sog_writer(ctx_) : nullptr;
     if (rq.scene && sog) {
         // SOG holds no labels: the scene as it was loaded, for the web viewers.
         seg::refuse_overwriting(out / "scene.sog", inputs);
@@ -141,7 +138,7 @@ void JobEngine::write(const ExportRequest& rq, std::atomic<size_t>& done, std::a
         }
     }
     if (rq.objects && objects_labelled)
-        seg::write_object_files(scene_.cloud, labels, objects, dir / "objects", sog ? seg::CloudWriter(write_sog) : nullptr,
+        seg::write_object_files(scene_.cloud, labels, objects, dir / "objects", write_sog,
                                 sog ? ".sog" : ".ply");
     if (rq.prompts) {
         data::write_prompts(rq.prompts_json, dir / "prompts.json");

@@ -17,4 +17,11 @@ data::SogQuantizer gpu_sog_quantizer(vk::Context& ctx, int iterations, uint64_t 
     return q;
 }
 
+SogFileWriter gpu_sog_writer(vk::Context& ctx, int iterations, uint64_t seed) {
+    return [quantizer = gpu_sog_quantizer(ctx, iterations, seed)](const data::GaussianCloud& cloud,
+                                                                 const std::filesystem::path& path) {
+        data::write_sog(cloud, path, quantizer);
+    };
+}
+
 }  // namespace pg::compress
