@@ -253,7 +253,7 @@ void Renderer::record_tile_passes(uint32_t n, uint32_t flags, const vk::Buffer& 
     for (uint32_t w = 0; w < windows_; ++w) {
         const vk::Buffer& window_in = windows_ > 1 ? window_carry_[w % 2] : no_style_;
         const vk::Buffer& window_out = windows_ > 1 ? window_carry_[(w + 1) % 2] : no_style_;
-        cmd_.dispatch_2d("render/blend",
+        cmd_.dispatch_2d(windows_ > 1 ? "render/blend_windows" : "render/blend",
                          {frame_, splats_, values_, ranges_, image_, aux_, ids, carry_in, carry_out, window_in, window_out},
                          gpu::TileWindowPush{{w, windows_, 0, 0}}, tiles_x(), tiles_y());
     }

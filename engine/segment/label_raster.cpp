@@ -50,7 +50,9 @@ void LabelRasterizer::record(vk::CommandList& cmd, const render::Renderer& rende
     if (windows > 1)
         for (auto& w : window_carry_)
             w.ensure(uint64_t(renderer.width()) * uint64_t(renderer.height()) * render::gpu::kLabelCarryWords * 4);
-    const char* shader = mode == LabelMode::Paper ? "segment/label_paper" : "segment/label_occlusion";
+    // One window: the variant without the window carry (faster on lavapipe).
+    const char* shader = mode == LabelMode::Paper ? (windows > 1 ? "segment/label_paper_windows" : "segment/label_paper")
+                                                  : (windows > 1 ? "segment/label_occlusion_windows" : "segment/label_occlusion");
     for (uint32_t w = 0; w < windows; ++w)
         cmd.dispatch_2d(shader,
                         {renderer.frame_buffer(), renderer.splat_buffer(), renderer.tile_values(), renderer.tile_ranges(),

@@ -12,6 +12,14 @@ struct TileWindow {
     bool skip;    // inactive or lost: the group returns at once
 };
 
+#if !defined(PG_TILE_WINDOWS)
+#error "define PG_TILE_WINDOWS (0: one window holds every list, 1: windows) before including tile_window.glsl"
+#elif PG_TILE_WINDOWS == 0
+// The frame was planned with one window: every tile's whole list, fresh or from the last slab.
+// Constant flags let the compiler drop the window carry; on lavapipe the windowed variant's
+// extra state cost the blend ~10 % though it walked the same keys.
+TileWindow tile_window(uvec2 full, uint index, uint planned) { return TileWindow(full, true, true, false); }
+#else
 TileWindow tile_window(uvec2 full, uint index, uint planned) {
     const uint len = full.y - full.x, off = index * kTileWindow;
     TileWindow t;
@@ -23,5 +31,6 @@ TileWindow tile_window(uvec2 full, uint index, uint planned) {
     t.skip = inactive || lost;
     return t;
 }
+#endif
 
 #endif
