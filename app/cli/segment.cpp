@@ -42,6 +42,7 @@ struct SegmentArgs {
     seg::WalkOptions walk;
     float unary = 1.0f, unary_confidence = 0.97f, walk_sure = 0.7f;
     uint32_t coarse = 8;
+    uint64_t graph_max_nodes = 0;
     double margin = 0.5;
     uint64_t seed = 1;
     DeviceOptions device;
@@ -110,6 +111,7 @@ void run_segment(const SegmentArgs& args) {
     o.unary = a.unary;
     o.unary_confidence = a.unary_confidence;
     o.coarse_stride = a.coarse;
+    o.graph_max_nodes = a.graph_max_nodes;
     o.graph_margin = a.margin;
     o.solver = solver;
     o.walk_sure = a.walk_sure;
@@ -158,7 +160,7 @@ void run_segment(const SegmentArgs& args) {
         auto& g = *result.graph;
         report["graph"] = {{"solver", seg::graph_solver_name(g.solver)}, {"nodes", g.nodes},         {"seeds", g.seeds},         {"unreached", g.unreached}, {"unreached_components", g.unreached_components},
                            {"iterations", g.iterations}, {"levels", g.levels}, {"jacobi_retries", g.jacobi_retries}, {"rounds", g.rounds}, {"forest_free", g.forest_free}, {"residual", g.residual}, {"cell", g.cell},
-                           {"spacing", g.spacing},     {"k", o.graph_options.k}};
+                           {"spacing", g.spacing},     {"k", o.graph_options.k}, {"domain", g.domain}, {"stride", g.stride}};
     }
     report["failed"] = failed;
     report["gaussians"] = cloud.size();
@@ -253,6 +255,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--graph-shells", a->graph.shells, "Graph: shells of grid cells a Gaussian short of k neighbours searches (1-4; more joins sparse Gaussians, and lets floaters bridge objects)")->capture_default_str();
     cmd->add_option("--graph-opacity", a->graph.opacity, "Graph: an edge's weight has the factor min(opacity)^this (0: opacity plays no part)")->capture_default_str();
     cmd->add_option("--graph-distance", a->graph.distance, "Graph: distance fall-off in local spacings")->capture_default_str();
+    cmd->add_option("--graph-max-nodes", a->graph_max_nodes, "Graph: most nodes one graph holds (0: what the device's largest binding allows); a larger domain is solved on every n-th Gaussian, the rest labelled as their nearest solved one")->capture_default_str();
     cmd->add_option("--graph-margin", a->margin, "Graph: the solve's domain is the ROIs widened by this fraction per side; what lies in the margin seeds the background")->capture_default_str();
     cmd->add_option("--unary", a->unary, "ptv3+graph: strength of the network's probabilities, in units of a Gaussian's degree")->capture_default_str();
     cmd->add_option("--unary-confidence", a->unary_confidence, "ptv3+graph: the network's probabilities count only where its most likely label reaches this")->capture_default_str();

@@ -6,6 +6,7 @@
 
 #include "dataset/clicks/kd_tree.h"
 #include "dataset/error.h"
+#include "engine/vk/context.h"
 #include "shaders/segment/graph_shared.h"
 
 namespace pg::seg {
@@ -48,6 +49,12 @@ KnnGraph::KnnGraph(vk::Context& ctx) : ctx_(ctx), cmd_(ctx), sort_(ctx) {
         *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "graph");
 }
 
+uint64_t KnnGraph::max_nodes(const vk::Context& ctx, uint32_t k) {
+    // 2 k uint32 edge keys (and values) per node; the walker's label columns, up to 4 vec4s.
+    const uint64_t widest = std::max<uint64_t>(8ull * k, 64);
+    return ctx.info().max_storage_buffer_range / widest;
+}
+
 void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& cloud,
                      const std::vector<uint32_t>& domain, const GraphOptions& o) {
     if (o.k < 1 || o.k > gpu::kGraphMaxK)
@@ -65,6 +72,10 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     const uint32_t n = nodes_, k = k_;
     if (n == 0) return;
     const uint64_t entries = 2ull * n * k;
+    if (n > max_nodes(ctx_, k))
+        throw std::runtime_error("graph: " + std::to_string(n) + " nodes of " + std::to_string(k) +
+                                 " neighbours pass the device's largest binding (at most " +
+                                 std::to_string(max_nodes(ctx_, k)) + ")");
     if (entries >= 0xFFFFFFFFull) throw std::runtime_error("graph: too many nodes for 32-bit edge ids");
 
     // The grid: robust bounds (outliers clamp into the border cells) and a cell side from the spacing.

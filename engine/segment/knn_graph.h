@@ -37,8 +37,13 @@ class KnnGraph {
 public:
     explicit KnnGraph(vk::Context& ctx);
 
+    // Most nodes a graph of k neighbours per node holds on this device: its widest arrays (the
+    // symmetric adjacency's 2 k edge keys per node; the walk's label columns) within one binding.
+    static uint64_t max_nodes(const vk::Context& ctx, uint32_t k);
+
     // Builds the graph over `domain` (scene indices, as the node order); `cloud` is the host
-    // copy of the scene, for the bounds and spacing that size the grid.
+    // copy of the scene, for the bounds and spacing that size the grid. More than max_nodes()
+    // nodes is an error.
     void build(const render::GpuScene& scene, const data::GaussianCloud& cloud, const std::vector<uint32_t>& domain,
                const GraphOptions& options);
 

@@ -63,6 +63,9 @@ struct SegmentOptions {
     double graph_margin = 0.5;    // the solve's domain: the ROI columns widened by this fraction per side
     float unary = 1.0f;           // ptv3+graph: a node's unary strength, in units of its degree,
     float unary_confidence = 0.97f;  // where the network's most likely label has at least this probability
+    // Most nodes one graph may hold (0: what the device's largest binding allows, about 1.6 M at
+    // k 10 on lavapipe). A larger domain is solved on every n-th node (see solve_decimated).
+    uint64_t graph_max_nodes = 0;
     uint32_t coarse_stride = 8;   // walk: a first solve on every n-th node starts the fine one (1: none);
                                   // with multigrid only where the fine graph's component holds no seed
                                   // or prior (what the coarse graph joins to the rest and labels)
@@ -101,6 +104,11 @@ struct GraphReport {
     uint32_t rounds = 0;         // the forest's relaxation rounds on the GPU (0: flooded on the host)
     size_t forest_free = 0;      // nodes the forest had to label (no seed, the walk not sure)
     double residual = 0, cell = 0, spacing = 0;
+    // The graph holds every stride-th node of the domain (in Morton order) and the clicked ones;
+    // the rest take their nearest graph node's label. 1: the whole domain. More only where the
+    // domain's graph would not fit the device (SegmentOptions::graph_max_nodes).
+    uint32_t stride = 1;
+    size_t domain = 0;           // Gaussians in the solve's domain
 };
 
 struct SegmentResult {
@@ -159,10 +167,19 @@ private:
     // decoder allows it (graph alone, a walk); false if it was not given.
     bool early_coarse_answer(const SegmentOptions& o, const std::vector<ObjectResult*>& objects, const GraphDomain& d,
                              SegmentResult& result);
-    // ptv3+graph: the networks' confident probabilities as unary terms (and which networks are trusted).
+    // ptv3+graph: the networks' confident probabilities as unary terms (and which networks are
+    // trusted), each of strength `unary` x the node's degree in `degree` (null: `unary` alone, for a
+    // problem the coarse graph solves with its own degrees).
     void network_prior(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                        const std::vector<std::vector<uint32_t>>& rois,
-                       const std::vector<std::vector<float>>& probabilities, const GraphDomain& d, WalkProblem& pr);
+                       const std::vector<std::vector<float>>& probabilities, const GraphDomain& d,
+                       const std::vector<float>* degree, WalkProblem& pr);
+    // A domain too large for one graph on this device: the problem on every n-th node (n as small
+    // as fits), the rest labelled by their nearest solved node. No warm start for a further click.
+    void solve_decimated(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
+                         const std::vector<std::vector<uint32_t>>& rois,
+                         const std::vector<std::vector<float>>& probabilities, const GraphDomain& d, uint64_t capacity,
+                         SegmentResult& result);
     // The random walk (warm or coarse start), then the forest where the walk is unsure (walk+forest).
     void solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& objects, const std::vector<uint32_t>& domain,
                     const std::vector<uint32_t>& nbr, WalkProblem& pr, SegmentResult& result);
@@ -179,13 +196,13 @@ private:
     static constexpr uint32_t kNoCoarse = 0xFFFFFFFFu;
     struct CoarseSolve {
         std::vector<uint32_t> members;  // coarse node -> fine node
-        std::vector<int32_t> seed;      // per coarse node
-        WalkResult walk;                // over the coarse nodes; its answer in x
+        WalkProblem problem;            // per coarse node: seeds, and the prior where the fine one has one
+        WalkResult walk;                // over the coarse nodes; its answer in x (none if not walked)
         LabelColumns x;
         std::vector<uint32_t> nearest;  // fine node -> its nearest coarse node (kNoCoarse: none)
     };
     CoarseSolve coarse_solve(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine,
-                             bool spread_clicks, bool scene_order);
+                             bool spread_clicks, bool scene_order, bool walk = true);
     // A starting point for the fine solve: each node starts from its nearest coarse node's answer.
     LabelColumns coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine);
     Anchor anchor_for(const data::PromptClick& click, const SegmentOptions& o, const std::string& what);

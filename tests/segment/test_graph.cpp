@@ -404,6 +404,56 @@ TEST_CASE("a streamed scene segments like the resident one: lifts, ROI, graph an
     }
 }
 
+TEST_CASE("graph decoder: a domain past the graph's node limit is solved on every n-th node, each object still found") {
+    // What a click in a scene of millions meets once the domain's graph would pass the device's
+    // largest binding (about 1.6 M nodes on lavapipe), forced here by a small limit.
+    auto s = balls_scene();
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, s.cloud);
+    seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras);
+    seg::SegmentOptions o;
+    o.up = {0, -1, 0};
+    o.scale = 0.5;
+    o.graph = seg::GraphUse::Alone;
+    o.graph_options.colour = 10.0f;
+    data::Prompts p;
+    p.objects.push_back({"left", 1, {point_click({-1.0, -0.51, 0.0})}});
+    p.objects.push_back({"middle", 2, {point_click({0.0, -0.26, -0.25})}});
+    for (auto solver : {seg::GraphSolver::Walk, seg::GraphSolver::Forest, seg::GraphSolver::WalkForest}) {
+        INFO("solver " << seg::graph_solver_name(solver));
+        o.solver = solver;
+        o.graph_max_nodes = 0;
+        const auto full = segmenter.segment(p, o);
+        REQUIRE(full.graph);
+        CHECK(full.graph->stride == 1);
+        CHECK(full.graph->nodes == full.graph->domain);
+        o.graph_max_nodes = full.graph->domain / 3;
+        const auto r = segmenter.segment(p, o);
+        REQUIRE(r.graph);
+        CHECK(r.failed() == 0);
+        CHECK(r.graph->stride >= 3);
+        CHECK(r.graph->domain == full.graph->domain);
+        CHECK(r.graph->nodes <= o.graph_max_nodes);
+        CHECK(iou(r.labels, 1, s.ball, 1) > 0.85);
+        CHECK(iou(r.labels, 2, s.ball, 2) > 0.85);
+        // Unclicked content stays unlabelled: the right balls, the floating cluster (counted).
+        size_t right = 0, agree = 0;
+        for (size_t i = 0; i < s.ball.size(); ++i) {
+            right += (s.ball[i] == 3 || s.ball[i] == 4) && r.labels[i] != 0;
+            agree += r.labels[i] == full.labels[i];
+        }
+        CHECK(right == 0);
+        CHECK(r.graph->unreached >= 60);
+        CHECK(agree >= s.ball.size() * 95 / 100);
+        // The next click builds its graph again (the subsample's is not the domain's).
+        o.graph_max_nodes = 0;
+        CHECK(segmenter.segment(p, o).labels == full.labels);
+    }
+    // A limit that leaves no room beside the clicked nodes: one clear error.
+    o.graph_max_nodes = 10;
+    CHECK_THROWS_WITH(segmenter.segment(p, o), Catch::Matchers::Contains("graph of at most 10 nodes"));
+}
+
 TEST_CASE("graph decoder: a cold solve hands over a coarse answer first, and a cancelled one leaves nothing stale") {
     auto s = balls_scene();
     auto& ctx = test::gpu();
