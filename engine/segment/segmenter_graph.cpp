@@ -75,6 +75,23 @@ GraphReport graph_report(const KnnGraph& graph, GraphSolver solver, const std::v
     return report;
 }
 
+// Labels 0 background, 1 + j object j; every node outside the ROIs (the margin) seeds the background.
+WalkProblem margin_problem(const GraphDomain& d, size_t objects) {
+    WalkProblem pr;
+    pr.labels = uint32_t(objects + 1);
+    pr.seed.assign(d.domain.size(), -1);
+    for (size_t i = 0; i < d.domain.size(); ++i)
+        if (!d.in_roi[i]) pr.seed[i] = 0;
+    return pr;
+}
+
+// A node grid's cell before any graph exists: a few nodes per cell on average (the bounding box
+// overstates the volume the nodes fill: coarser cells, still exact).
+float node_cell(const GraphDomain& d) {
+    const glm::vec3 size = glm::max(d.hi - d.lo, glm::vec3(1e-6f));
+    return std::cbrt(4.0f * size.x * size.y * size.z / float(d.domain.size()));
+}
+
 // The domain: every Gaussian within an ROI column widened by the margin. Between the ROI and
 // the margin lies the background's evidence of last resort: the object-scale rule's ROI.
 GraphDomain graph_domain(const data::GaussianCloud& cloud, const std::vector<ObjectResult*>& objects,
@@ -242,13 +259,8 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     result.stage_ms["graph build"] += ms_since(t0);
 
     t0 = Clock::now();
-    // Labels: 0 background, 1 + j object j.
     const uint32_t nodes = uint32_t(d.domain.size());
-    WalkProblem pr;
-    pr.labels = uint32_t(objects.size() + 1);
-    pr.seed.assign(nodes, -1);
-    for (uint32_t i = 0; i < nodes; ++i)
-        if (!d.in_roi[i]) pr.seed[i] = 0;
+    WalkProblem pr = margin_problem(d, objects.size());
     const auto& nbr = graph_.host_neighbours();
     seed_clicks(objects, d, &nbr, graph_.cell_side(), pr);
     if (o.graph == GraphUse::Unary) {
@@ -279,13 +291,8 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
 
     auto t0 = Clock::now();
     const uint32_t nodes = uint32_t(d.domain.size());
-    WalkProblem pr;
-    pr.labels = uint32_t(objects.size() + 1);
-    pr.seed.assign(nodes, -1);
-    for (uint32_t i = 0; i < nodes; ++i)
-        if (!d.in_roi[i]) pr.seed[i] = 0;
-    const glm::vec3 size = glm::max(d.hi - d.lo, glm::vec3(1e-6f));
-    seed_clicks(objects, d, nullptr, std::cbrt(4.0f * size.x * size.y * size.z / float(nodes)), pr);
+    WalkProblem pr = margin_problem(d, objects.size());
+    seed_clicks(objects, d, nullptr, node_cell(d), pr);
     if (o.graph == GraphUse::Unary) network_prior(o, objects, rois, probabilities, d, nullptr, pr);
     const uint64_t clicked = uint64_t(std::count_if(pr.seed.begin(), pr.seed.end(), [](int32_t v) { return v > 0; }));
     if (clicked + 64 >= capacity)
@@ -395,16 +402,8 @@ bool Segmenter::early_coarse_answer(const SegmentOptions& o, const std::vector<O
         nodes < 64 * o.coarse_stride)
         return false;
     auto t0 = Clock::now();
-    WalkProblem early;
-    early.labels = uint32_t(objects.size() + 1);
-    early.seed.assign(nodes, -1);
-    for (uint32_t i = 0; i < nodes; ++i)
-        if (!d.in_roi[i]) early.seed[i] = 0;
-    // A grid of cells holding a few nodes each on average (the bounding box overstates the
-    // volume the nodes fill: coarser cells, still exact).
-    const glm::vec3 size = glm::max(d.hi - d.lo, glm::vec3(1e-6f));
-    const float cell = std::cbrt(4.0f * size.x * size.y * size.z / float(nodes));
-    seed_clicks(objects, d, nullptr, cell, early);
+    WalkProblem early = margin_problem(d, objects.size());
+    seed_clicks(objects, d, nullptr, node_cell(d), early);
     // The full solve's rule on the coarse graph (walk, and forest where the walk is unsure),
     // carried to every node by its nearest coarse node. The coarse nodes are every n-th in
     // Morton order, a uniform spatial subsample: thin parts keep their nodes (every n-th in scene
