@@ -1,5 +1,6 @@
 # Compiles every GLSL compute shader under shaders/ to SPIR-V with glslang at build time and
 # embeds the words in a static library; pg::shaders::spirv("render/preprocess") finds one.
+# pg_embed_shaders(target root [KEY:SUFFIX:DEFINE ...]): variants, see below.
 function(pg_embed_shaders target shader_root)
   file(GLOB_RECURSE sources CONFIGURE_DEPENDS "${shader_root}/*.comp")
   file(GLOB_RECURSE includes CONFIGURE_DEPENDS "${shader_root}/*.glsl" "${shader_root}/*.h")
@@ -7,16 +8,40 @@ function(pg_embed_shaders target shader_root)
   set(headers)
   set(entries "")
   set(decls "")
+  # Variants: "KEY:SUFFIX:DEFINE" compiles KEY.comp again as KEY_SUFFIX with -DDEFINE (a constant
+  # the shader would otherwise read at run time, so its loops unroll).
+  set(builds)
   foreach(src ${sources})
     file(RELATIVE_PATH rel "${shader_root}" "${src}")
     string(REGEX REPLACE "\\.comp$" "" key "${rel}")
+    list(APPEND builds "${src}|${key}|")
+    foreach(variant ${ARGN})
+      string(REPLACE ":" ";" parts "${variant}")
+      list(GET parts 0 base)
+      list(GET parts 1 suffix)
+      list(GET parts 2 define)
+      if(base STREQUAL key)
+        list(APPEND builds "${src}|${key}_${suffix}|-D${define}")
+      endif()
+    endforeach()
+  endforeach()
+  foreach(build ${builds})
+    string(REPLACE "|" ";" parts "${build}")
+    list(GET parts 0 src)
+    list(GET parts 1 key)
+    list(LENGTH parts n)
+    set(define "")
+    if(n GREATER 2)
+      list(GET parts 2 define)
+    endif()
+    set(rel "${key}.comp")
     string(MAKE_C_IDENTIFIER "pg_spv_${key}" var)
     set(header "${out_dir}/${key}.spv.h")
     get_filename_component(header_dir "${header}" DIRECTORY)
     add_custom_command(
       OUTPUT "${header}"
       COMMAND ${CMAKE_COMMAND} -E make_directory "${header_dir}"
-      COMMAND ${GLSLANG_VALIDATOR} -V --quiet --target-env vulkan1.2 -I${shader_root} -I${PROJECT_SOURCE_DIR}
+      COMMAND ${GLSLANG_VALIDATOR} -V --quiet --target-env vulkan1.2 -I${shader_root} -I${PROJECT_SOURCE_DIR} ${define}
               --vn ${var} -o "${header}" "${src}"
       DEPENDS "${src}" ${includes}
       COMMENT "glslang ${rel}"

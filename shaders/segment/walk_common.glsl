@@ -3,8 +3,11 @@
 // per-workgroup partial dot products (one per column) that walk_reduce sums.
 #ifndef PG_WALK_COMMON_GLSL
 #define PG_WALK_COMMON_GLSL
-// vec4s per node in the column buffers (requires the WalkPush as pc); at most kWalkVecs.
+// vec4s per node in the column buffers (requires the WalkPush as pc); at most kWalkVecs. A build
+// may fix it (shaders/CMakeLists.txt: the _v1 variants), so the column loops unroll.
+#ifndef WALK_VECS
 #define WALK_VECS ((pc.size.z + 3u) / 4u)
+#endif
 shared vec4 s_dot[kWalkVecs][kGraphGroup];
 
 // Every invocation of the group calls this (barriers inside) with its node's terms (0 if none);
