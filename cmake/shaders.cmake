@@ -1,6 +1,6 @@
 # Compiles every GLSL compute shader under shaders/ to SPIR-V with glslang at build time and
 # embeds the words in a static library; pg::shaders::spirv("render/preprocess") finds one.
-# pg_embed_shaders(target root [KEY:SUFFIX:DEFINE ...]): variants, see below.
+# pg_embed_shaders(target root [KEY:SUFFIX:DEFINE ...]): a shader built per value of a constant.
 function(pg_embed_shaders target shader_root)
   file(GLOB_RECURSE sources CONFIGURE_DEPENDS "${shader_root}/*.comp")
   file(GLOB_RECURSE includes CONFIGURE_DEPENDS "${shader_root}/*.glsl" "${shader_root}/*.h")
@@ -8,13 +8,14 @@ function(pg_embed_shaders target shader_root)
   set(headers)
   set(entries "")
   set(decls "")
-  # Variants: "KEY:SUFFIX:DEFINE" compiles KEY.comp again as KEY_SUFFIX with -DDEFINE (a constant
-  # the shader would otherwise read at run time, so its loops unroll).
+  # Variants: "KEY:SUFFIX:DEFINE" compiles KEY.comp as KEY_SUFFIX with -DDEFINE (a constant the
+  # shader would otherwise read at run time, so its loops unroll); a KEY with variants is built
+  # only as its variants.
   set(builds)
   foreach(src ${sources})
     file(RELATIVE_PATH rel "${shader_root}" "${src}")
     string(REGEX REPLACE "\\.comp$" "" key "${rel}")
-    list(APPEND builds "${src}|${key}|")
+    set(own "${src}|${key}|")
     foreach(variant ${ARGN})
       string(REPLACE ":" ";" parts "${variant}")
       list(GET parts 0 base)
@@ -22,8 +23,12 @@ function(pg_embed_shaders target shader_root)
       list(GET parts 2 define)
       if(base STREQUAL key)
         list(APPEND builds "${src}|${key}_${suffix}|-D${define}")
+        set(own "")
       endif()
     endforeach()
+    if(own)
+      list(APPEND builds "${own}")
+    endif()
   endforeach()
   foreach(build ${builds})
     string(REPLACE "|" ";" parts "${build}")

@@ -18,11 +18,9 @@ void put(vk::Context& ctx, vk::Buffer& to, const std::vector<T>& from) {
     if (!from.empty()) vk::upload(ctx, to, from.data(), from.size() * sizeof(T));
 }
 
-// The node passes built with WALK_VECS = 1 where the labels fit one vec4 (up to three objects and
-// the background: most solves): their column loops unroll and a node's columns stay in registers.
-// On lavapipe the walk took ~25 % less time (150 k tiled guitar, two objects; same labels).
+// A node pass built for this solve's vec4s of label columns per node (shaders/CMakeLists.txt).
 std::string walk_kernel(const char* name, uint32_t labels) {
-    return labels <= 4 ? std::string(name) + "_v1" : std::string(name);
+    return std::string(name) + "_v" + std::to_string((std::min(labels, gpu::kWalkMaxLabels) + 3) / 4);
 }
 
 }  // namespace

@@ -10,8 +10,8 @@ layout(std430, binding = 0) readonly buffer Inverse { float inverse[]; };  // ro
 layout(std430, binding = 1) readonly buffer R { vec4 r[]; };
 layout(std430, binding = 2) writeonly buffer Z { vec4 z[]; };
 layout(push_constant) uniform Push { WalkCyclePush pc; };
-#ifndef WALK_VECS  // fixed in the _v1 variants (shaders/CMakeLists.txt)
-#define WALK_VECS ((pc.size.z + 3u) / 4u)
+#ifndef WALK_VECS
+#error "WALK_VECS: built per column count (shaders/CMakeLists.txt)"
 #endif
 
 void main() {

@@ -3,10 +3,10 @@
 // per-workgroup partial dot products (one per column) that walk_reduce sums.
 #ifndef PG_WALK_COMMON_GLSL
 #define PG_WALK_COMMON_GLSL
-// vec4s per node in the column buffers (requires the WalkPush as pc); at most kWalkVecs. A build
-// may fix it (shaders/CMakeLists.txt: the _v1 variants), so the column loops unroll.
+// vec4s per node in the column buffers, at most kWalkVecs: fixed per build (shaders/CMakeLists.txt),
+// so the loops over a node's columns unroll.
 #ifndef WALK_VECS
-#define WALK_VECS ((pc.size.z + 3u) / 4u)
+#error "WALK_VECS: built per column count (shaders/CMakeLists.txt)"
 #endif
 shared vec4 s_dot[kWalkVecs][kGraphGroup];
 

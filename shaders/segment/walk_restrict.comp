@@ -19,8 +19,8 @@ layout(std430, binding = 8) readonly buffer Smoother { float smoother[]; }; // t
 layout(std430, binding = 9) writeonly buffer CoarseR { vec4 coarse_r[]; };
 layout(std430, binding = 10) writeonly buffer CoarsePre { vec4 coarse_pre[]; };
 layout(push_constant) uniform Push { WalkCyclePush pc; };
-#ifndef WALK_VECS  // fixed in the _v1 variants (shaders/CMakeLists.txt)
-#define WALK_VECS ((pc.size.z + 3u) / 4u)
+#ifndef WALK_VECS
+#error "WALK_VECS: built per column count (shaders/CMakeLists.txt)"
 #endif
 
 void main() {
