@@ -85,6 +85,19 @@ WalkProblem margin_problem(const GraphDomain& d, size_t objects) {
     return pr;
 }
 
+// The forest's seeds: the problem's (clicks, margin), plus the network's confident labels where
+// it has a prior (its most likely label at every node with a unary term).
+std::vector<int32_t> forest_seeds(const WalkProblem& pr) {
+    std::vector<int32_t> seed = pr.seed;
+    if (!pr.gamma.empty())
+        for (size_t i = 0; i < seed.size(); ++i)
+            if (seed[i] < 0 && pr.gamma[i] > 0) {
+                const float* q = &pr.prior[i * pr.labels];
+                seed[i] = int32_t(std::max_element(q, q + pr.labels) - q);
+            }
+    return seed;
+}
+
 // A node grid's cell before any graph exists: a few nodes per cell on average (the bounding box
 // overstates the volume the nodes fill: coarser cells, still exact).
 float node_cell(const GraphDomain& d) {
@@ -322,14 +335,7 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
         report.jacobi_retries = cs.walk.jacobi_retries;
         report.residual = cs.walk.residual;
     } else {
-        // The forest's seeds: the clicks and margin, plus the network's confident labels.
-        std::vector<int32_t> seed = cs.problem.seed;
-        if (!cs.problem.gamma.empty())
-            for (uint32_t c = 0; c < m; ++c)
-                if (seed[c] < 0 && cs.problem.gamma[c] > 0) {
-                    const float* q = &cs.problem.prior[size_t(c) * pr.labels];
-                    seed[c] = int32_t(std::max_element(q, q + pr.labels) - q);
-                }
+        const std::vector<int32_t> seed = forest_seeds(cs.problem);
         WalkProblem seeds_only;
         seeds_only.labels = pr.labels;
         seeds_only.seed = seed;
@@ -586,13 +592,7 @@ void Segmenter::solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>
                              SegmentResult& result) {
     // The network's confident labels (the walk's unary terms) seed the forest like clicks.
     const uint32_t nodes = uint32_t(domain.size()), labels = pr.labels;
-    std::vector<int32_t> seed = pr.seed;
-    if (!pr.gamma.empty())
-        for (uint32_t i = 0; i < nodes; ++i)
-            if (seed[i] < 0 && pr.gamma[i] > 0) {
-                const float* q = &pr.prior[size_t(i) * labels];
-                seed[i] = int32_t(std::max_element(q, q + labels) - q);
-            }
+    std::vector<int32_t> seed = forest_seeds(pr);
     auto forest = forest_.solve(graph_, seed, o.forest);
     last_solution_ = LabelColumns();  // the walk's warm start does not apply to hard labels
     last_ids_.clear();
