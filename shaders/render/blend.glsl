@@ -5,6 +5,7 @@
 // window of it per dispatch.
 #include "render/render_shared.h"
 #include "render/tile_test.glsl"
+#include "render/tile_runs.glsl"
 #include "render/tile_window.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
@@ -34,14 +35,6 @@ shared vec4 s_mean_opacity[kBlendGroup];  // mean.xy, opacity, depth
 shared vec4 s_conic[kBlendGroup];         // a, b, c, unused
 shared vec4 s_color[kBlendGroup];         // rgb, unused
 shared uint s_id[kBlendGroup];
-shared uint s_runs[kBlendGroup];          // which 8x1 pixel runs of the tile the support reaches
-// Per run, the staged Gaussians that reach it, in depth order: byte t of the list of run r
-// is byte (t % 4) of s_run_list[r * 64 + t / 4]. Each pixel loops over its own run's list,
-// so drivers that run masked lanes in lockstep (lavapipe) do no work for Gaussians that
-// miss the run; the result is the same for any subgroup size.
-const uint kRuns = kBlendGroup / 8u;
-shared uint s_run_list[kRuns * (kBlendGroup / 4u)];
-shared uint s_run_count[kRuns];
 shared uint done_count;
 
 void main() {
@@ -93,43 +86,19 @@ void main() {
             s_conic[gl_LocalInvocationIndex] = sp.conic;
             s_color[gl_LocalInvocationIndex] = sp.color;
             s_id[gl_LocalInvocationIndex] = id;
-            // Bit r: run r (row r / 2, columns (r % 2) * 8 .. + 7) has a pixel centre inside the
-            // support ellipse; outside it alpha < 1/255, so skipping the rest is exact.
-            uvec2 origin = gl_WorkGroupID.xy * kTileSize;
-            uint runs = 0u;
-            for (uint r = 0u; r < 32u; ++r) {
-                float y = float(origin.y + (r >> 1)) + 0.5;
-                float x0 = float(origin.x + (r & 1u) * 8u) + 0.5;
-                float dy = y - sp.mean.y;
-                float x = clamp(sp.mean.x - sp.conic.y * dy / sp.conic.x, x0, x0 + 7.0);
-                if (pg_form(sp.conic.xyz, vec2(x - sp.mean.x, dy)) <= sp.conic.w) runs |= 1u << r;
-            }
-            s_runs[gl_LocalInvocationIndex] = runs;
+            s_runs[gl_LocalInvocationIndex] = tile_runs_reached(sp, gl_WorkGroupID.xy * kTileSize);
         } else {
             s_runs[gl_LocalInvocationIndex] = 0u;
         }
         barrier();
         uint count = min(kBlendGroup, range.y - start);
-        if (gl_LocalInvocationIndex < kRuns) {
-            uint r = gl_LocalInvocationIndex, bit = 1u << r, n = 0u, word = 0u;
-            for (uint j = 0u; j < count; ++j) {
-                if ((s_runs[j] & bit) == 0u) continue;
-                word |= j << ((n & 3u) * 8u);
-                ++n;
-                if ((n & 3u) == 0u) {
-                    s_run_list[r * (kBlendGroup / 4u) + (n >> 2) - 1u] = word;
-                    word = 0u;
-                }
-            }
-            if ((n & 3u) != 0u) s_run_list[r * (kBlendGroup / 4u) + (n >> 2)] = word;
-            s_run_count[r] = n;
-        }
+        tile_runs_build(count);
         barrier();
         if (done) continue;
         uint run = gl_LocalInvocationIndex >> 3;
         uint run_count = s_run_count[run];
         for (uint t = 0u; t < run_count; ++t) {
-            uint j = (s_run_list[run * (kBlendGroup / 4u) + (t >> 2)] >> ((t & 3u) * 8u)) & 0xFFu;
+            uint j = tile_runs_entry(run, t);
             vec4 mo = s_mean_opacity[j];
             vec4 con = s_conic[j];
             vec2 d = mo.xy - center;

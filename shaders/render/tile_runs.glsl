@@ -1,0 +1,50 @@
+// Per-run lists of a tile's staged Gaussians, shared by render/blend and segment/label_occlusion.
+// A tile's 256 pixels form 32 runs of 8x1 (run r: row r / 2, columns (r % 2) * 8 .. + 7). For
+// each staged batch, run r's list holds, in depth order, the batch positions of the Gaussians
+// whose support ellipse reaches a pixel centre of the run: byte t of the list is byte (t % 4) of
+// s_run_list[r * 64 + t / 4]. Each pixel loops over its own run's list, so drivers that run
+// masked lanes in lockstep (lavapipe) do no work for Gaussians that miss the run; the result is
+// the same for any subgroup size. Outside the ellipse alpha < 1/255, so the skipping is exact.
+#ifndef PG_TILE_RUNS_GLSL
+#define PG_TILE_RUNS_GLSL
+
+const uint kRuns = kBlendGroup / 8u;
+shared uint s_runs[kBlendGroup];  // by batch position: which runs the support reaches (bit r)
+shared uint s_run_list[kRuns * (kBlendGroup / 4u)];
+shared uint s_run_count[kRuns];
+
+// The runs of the tile with pixel origin `origin` that splat `sp`'s support ellipse reaches.
+uint tile_runs_reached(Splat sp, uvec2 origin) {
+    uint runs = 0u;
+    for (uint r = 0u; r < 32u; ++r) {
+        float y = float(origin.y + (r >> 1)) + 0.5;
+        float x0 = float(origin.x + (r & 1u) * 8u) + 0.5;
+        float dy = y - sp.mean.y;
+        float x = clamp(sp.mean.x - sp.conic.y * dy / sp.conic.x, x0, x0 + 7.0);
+        if (pg_form(sp.conic.xyz, vec2(x - sp.mean.x, dy)) <= sp.conic.w) runs |= 1u << r;
+    }
+    return runs;
+}
+
+// Every invocation calls this between two barriers once s_runs holds the batch's first `count`
+// entries: invocations 0 .. kRuns - 1 each build one run's list.
+void tile_runs_build(uint count) {
+    if (gl_LocalInvocationIndex >= kRuns) return;
+    uint r = gl_LocalInvocationIndex, bit = 1u << r, n = 0u, word = 0u;
+    for (uint j = 0u; j < count; ++j) {
+        if ((s_runs[j] & bit) == 0u) continue;
+        word |= j << ((n & 3u) * 8u);
+        ++n;
+        if ((n & 3u) == 0u) {
+            s_run_list[r * (kBlendGroup / 4u) + (n >> 2) - 1u] = word;
+            word = 0u;
+        }
+    }
+    if ((n & 3u) != 0u) s_run_list[r * (kBlendGroup / 4u) + (n >> 2)] = word;
+    s_run_count[r] = n;
+}
+
+// Entry t of run `run`'s list: a batch position.
+uint tile_runs_entry(uint run, uint t) { return (s_run_list[run * (kBlendGroup / 4u) + (t >> 2)] >> ((t & 3u) * 8u)) & 0xFFu; }
+
+#endif
