@@ -43,8 +43,9 @@ float spacing_of(const std::vector<glm::vec3>& p, const std::vector<uint32_t>& d
 
 }  // namespace
 
-KnnGraph::KnnGraph(vk::Context& ctx) : ctx_(ctx), cmd_(ctx), sort_(ctx) {
-    for (auto* b : {&domain_buf_, &pos_, &colour_, &normal_, &keys_, &values_, &nbr_, &dist_, &spacing_, &weight_,
+KnnGraph::KnnGraph(vk::Context& ctx) : ctx_(ctx), cmd_(ctx), sort_(ctx), scan_(ctx) {
+    for (auto* b : {&domain_buf_, &pos_, &colour_, &normal_, &keys_, &values_, &nbr_, &dist_, &spacing_, &weight_, &reverse_start_,
+                    &columns_, &adjacency_weights_,
                     &rows_, &degree_})
         *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "graph");
 }
@@ -118,6 +119,8 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     spacing_.ensure(uint64_t(n) * 4);
     weight_.ensure(nk * 4);
     rows_.ensure(uint64_t(n + 1) * 4);
+    reverse_start_.ensure(uint64_t(n) * 4);
+    adjacency_weights_.ensure(entries * 4);
     degree_.ensure(uint64_t(n) * 4);
 
     gpu::GraphNodesPush nodes_push{{n, scene.sh_words(), scene.half_sh() ? 1u : 0u, 0}};
@@ -158,12 +161,20 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     cmd_.dispatch("segment/graph_knn", {pos_, keys_, values_, nbr_, dist_, spacing_}, grid, graph_groups(n));
     cmd_.begin_pass("graph weights");
     cmd_.dispatch("segment/graph_weights", {pos_, colour_, normal_, nbr_, dist_, spacing_, weight_}, wpush, graph_groups(nk));
+    // W + W^T with each pair once: a row is the node's own slots (already grouped) and the slots
+    // of nodes that list it and that it does not list, so only those are sorted by row; a prefix sum of the row
+    // lengths places the rows. The columns go to keys_, which then becomes columns_.
     cmd_.begin_pass("graph adjacency");
-    cmd_.dispatch("segment/graph_edge_keys", {nbr_, keys_, values_}, epush, graph_groups(entries));
-    sort_.sort(cmd_, keys_, values_, uint32_t(entries), bits_for(n + 1), sort::KeyWidth::Bits32);
-    cmd_.dispatch("segment/graph_rows", {keys_, values_, nbr_, weight_, rows_, degree_}, epush, graph_groups(uint64_t(n) + 1));
+    // dist_ (read by graph_weights only) holds each slot's twin.
+    cmd_.dispatch("segment/graph_edge_keys", {nbr_, keys_, values_, dist_}, epush, graph_groups(nk));
+    sort_.sort(cmd_, keys_, values_, uint32_t(nk), bits_for(n + 1), sort::KeyWidth::Bits32);
+    cmd_.dispatch("segment/graph_row_counts", {nbr_, keys_, rows_, reverse_start_}, epush, graph_groups(uint64_t(n) + 1));
+    scan_.exclusive(cmd_, rows_, rows_, n + 1);
+    cmd_.dispatch("segment/graph_rows", {nbr_, values_, reverse_start_, dist_, weight_, rows_, keys_, adjacency_weights_, degree_},
+                  epush, graph_groups(n));
     cmd_.end_pass();
     cmd_.submit_and_wait();
+    std::swap(keys_, columns_);
     timings_ = cmd_.timings();
 }
 
@@ -180,21 +191,10 @@ const std::vector<uint32_t>& KnnGraph::host_neighbours() const {
 
 const HostAdjacency& KnnGraph::host_adjacency() const {
     if (!host_adjacency_.rows.empty() || nodes_ == 0) return host_adjacency_;
-    // Entry e < n k is node i's own slot e (neighbour nbr[e]); above, the slot e - n k of the
-    // node that lists i (graph_edge.glsl).
-    const auto& nbr = host_neighbours();
-    const auto weight = weights();
-    const uint64_t half = uint64_t(nodes_) * k_;
     HostAdjacency& a = host_adjacency_;
     a.rows = vk::download_vector<uint32_t>(ctx_, rows_, size_t(nodes_) + 1);
-    const auto entries = vk::download_vector<uint32_t>(ctx_, values_, a.rows[nodes_]);
-    a.columns.resize(entries.size());
-    a.weights.resize(entries.size());
-    for (size_t s = 0; s < entries.size(); ++s) {
-        const uint32_t e = entries[s];
-        a.columns[s] = e < half ? nbr[e] : uint32_t((e - half) / k_);
-        a.weights[s] = weight[e < half ? e : e - half];
-    }
+    a.columns = vk::download_vector<uint32_t>(ctx_, columns_, a.rows[nodes_]);
+    a.weights = vk::download_vector<float>(ctx_, adjacency_weights_, a.rows[nodes_]);
     a.degree = vk::download_vector<float>(ctx_, degree_, nodes_);
     return a;
 }

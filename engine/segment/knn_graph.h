@@ -4,7 +4,7 @@
 // the 27 surrounding cells searched, further shells for a node short of k if asked), an affinity
 // per edge from colour, distance relative to
 // the local spacing, normals of the flattest axes and opacity, and the symmetric adjacency
-// W + W^T as rows of edge ids with each node's degree.
+// W + W^T as CSR rows (columns and weights, each pair once) with each node's degree.
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -14,6 +14,7 @@
 #include "dataset/gaussian_cloud.h"
 #include "engine/render/gpu_scene.h"
 #include "engine/segment/host_adjacency.h"
+#include "engine/sort/prefix_sum.h"
 #include "engine/sort/radix_sort.h"
 #include "engine/vk/buffer.h"
 #include "engine/vk/commands.h"
@@ -63,8 +64,10 @@ public:
     const HostAdjacency& host_adjacency() const;
 
     // Device buffers the random walker reads.
-    const vk::Buffer& rows() const { return rows_; }        // n + 1 starts into entries()
-    const vk::Buffer& entries() const { return values_; }   // edge ids, row by row
+    // W + W^T, each pair once (a pair that lists each other weighs both slots): CSR rows.
+    const vk::Buffer& rows() const { return rows_; }  // n + 1 starts into the next two
+    const vk::Buffer& columns() const { return columns_; }
+    const vk::Buffer& adjacency_weights() const { return adjacency_weights_; }
     const vk::Buffer& neighbour_buffer() const { return nbr_; }
     const vk::Buffer& weight_buffer() const { return weight_; }
     const vk::Buffer& degree_buffer() const { return degree_; }
@@ -73,8 +76,11 @@ private:
     vk::Context& ctx_;
     vk::CommandList cmd_;
     sort::RadixSort sort_;
+    sort::PrefixSum scan_;
     std::unique_ptr<render::SceneSlab> slab_;  // a streamed scene's domain, a slab at a time
     vk::Buffer domain_buf_, pos_, colour_, normal_, keys_, values_, nbr_, dist_, spacing_, weight_, rows_, degree_;
+    vk::Buffer reverse_start_;  // per node: where the sorted reverse half holds its run
+    vk::Buffer columns_, adjacency_weights_;
     std::vector<uint32_t> domain_;
     mutable std::vector<uint32_t> host_nbr_;      // empty until asked for after a build
     mutable HostAdjacency host_adjacency_;

@@ -26,7 +26,7 @@ std::string walk_kernel(const char* name, uint32_t labels) {
 }  // namespace
 
 RandomWalker::RandomWalker(vk::Context& ctx) : ctx_(ctx), cmd_(ctx) {
-    for (auto* b : {&seed_, &gamma_, &prior_, &x_, &b_, &inv_diag_, &coupling_, &r_, &z_, &p_, &ap_, &partials_, &scalars_, &check_, &best_x_, &edge_columns_, &edge_weights_, &coarse_inverse_})
+    for (auto* b : {&seed_, &gamma_, &prior_, &x_, &b_, &inv_diag_, &coupling_, &r_, &z_, &p_, &ap_, &partials_, &scalars_, &check_, &best_x_, &edge_weights_, &coarse_inverse_})
         *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "random walker");
 }
 
@@ -96,13 +96,11 @@ std::vector<float> RandomWalker::cycle(const KnnGraph& graph, const WalkProblem&
     const std::vector<float> gamma = pr.gamma.empty() ? std::vector<float>(n, 0.0f) : pr.gamma;
     seed_.ensure(uint64_t(n) * 4);
     vk::upload(ctx_, seed_, pr.seed.data(), uint64_t(n) * 4);
-    edge_columns_.ensure(2ull * n * graph.k() * 4);
     edge_weights_.ensure(2ull * n * graph.k() * 4);
     const gpu::WalkPush push{{n, graph.k(), labels, vk::ceil_div(n, gpu::kGraphGroup)}, {0, 0, 0, 0}};
     cmd_.begin_pass("walk edges");
-    cmd_.dispatch("segment/walk_edges", {graph.entries(), graph.neighbour_buffer(), graph.weight_buffer(), seed_, graph.rows(),
-                                         edge_columns_, edge_weights_},
-                  push, vk::ceil_div(2ull * n * graph.k(), gpu::kGraphGroup));
+    cmd_.dispatch("segment/walk_edges", {graph.columns(), graph.adjacency_weights(), seed_, graph.rows(), edge_weights_}, push,
+                  vk::ceil_div(2ull * n * graph.k(), gpu::kGraphGroup));
     cmd_.end_pass();
     cmd_.submit_and_wait();
     WalkResult unused;
@@ -133,7 +131,7 @@ std::vector<float> RandomWalker::cycle(const KnnGraph& graph, const WalkProblem&
 void RandomWalker::record_cycle(const KnnGraph& graph, uint32_t labels, float scale) {
     const uint32_t count = uint32_t(level_nodes_.size());
     auto rows = [&](uint32_t l) -> const vk::Buffer& { return l == 0 ? graph.rows() : levels_[l].rows; };
-    auto columns = [&](uint32_t l) -> const vk::Buffer& { return l == 0 ? edge_columns_ : levels_[l].columns; };
+    auto columns = [&](uint32_t l) -> const vk::Buffer& { return l == 0 ? graph.columns() : levels_[l].columns; };
     auto weights = [&](uint32_t l) -> const vk::Buffer& { return l == 0 ? edge_weights_ : levels_[l].weights; };
     auto r = [&](uint32_t l) -> const vk::Buffer& { return l == 0 ? r_ : levels_[l].r; };
     auto z = [&](uint32_t l) -> const vk::Buffer& { return l == 0 ? z_ : levels_[l].z; };
@@ -229,7 +227,6 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
     vk::upload(ctx_, gamma_, gamma.data(), uint64_t(n) * 4);
     inv_diag_.ensure(uint64_t(n) * 4);
     coupling_.ensure(uint64_t(n) * 4);
-    edge_columns_.ensure(2ull * n * graph.k() * 4);
     edge_weights_.ensure(2ull * n * graph.k() * 4);
     const uint32_t most = std::min(total, gpu::kWalkMaxLabels);
     const uint32_t most_width = (most + 3) / 4 * 4;
@@ -270,17 +267,16 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
             gpu::WalkPush push[4];
             for (uint32_t mode = 0; mode < 4; ++mode) push[mode] = {{n, graph.k(), labels, node_groups}, {mode, base, 0, 0}};
             const auto& rows = graph.rows();
-            const auto& entries = graph.entries();
-            const auto& nbr = graph.neighbour_buffer();
-            const auto& w = graph.weight_buffer();
+            const auto& columns = graph.columns();
             const auto& deg = graph.degree_buffer();
             const uint32_t reduce_groups = width / 4;
             cmd_.begin_pass("walk start");
-            cmd_.dispatch(walk_kernel("segment/walk_rhs", labels), {rows, entries, nbr, w, deg, seed_, gamma_, prior_, x_, b_, inv_diag_, coupling_},
-                          push[0], node_groups);
-            cmd_.dispatch("segment/walk_edges", {entries, nbr, w, seed_, rows, edge_columns_, edge_weights_}, push[0],
+            cmd_.dispatch(walk_kernel("segment/walk_rhs", labels),
+                          {rows, columns, graph.adjacency_weights(), deg, seed_, gamma_, prior_, x_, b_, inv_diag_, coupling_}, push[0],
+                          node_groups);
+            cmd_.dispatch("segment/walk_edges", {columns, graph.adjacency_weights(), seed_, rows, edge_weights_}, push[0],
                           vk::ceil_div(2ull * n * graph.k(), gpu::kGraphGroup));
-            cmd_.dispatch(walk_kernel("segment/walk_apply", labels), {rows, edge_columns_, edge_weights_, coupling_, seed_, x_, ap_, partials_}, push[0], node_groups);
+            cmd_.dispatch(walk_kernel("segment/walk_apply", labels), {rows, columns, edge_weights_, coupling_, seed_, x_, ap_, partials_}, push[0], node_groups);
             cmd_.dispatch(walk_kernel("segment/walk_residual", labels), {b_, ap_, inv_diag_, r_, z_, p_, partials_}, push[3], node_groups);
             cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[3], reduce_groups);
             cmd_.end_pass();
@@ -365,7 +361,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
                     cmd_.dispatch(walk_kernel("segment/walk_keep", labels), {x_, best_x_}, keep, node_groups);
                 }
                 for (uint32_t c = 0; c < check_every && it < o.max_iterations; ++c, ++it) {
-                    cmd_.dispatch(walk_kernel("segment/walk_apply", labels), {rows, edge_columns_, edge_weights_, coupling_, seed_, p_, ap_, partials_}, push[1],
+                    cmd_.dispatch(walk_kernel("segment/walk_apply", labels), {rows, columns, edge_weights_, coupling_, seed_, p_, ap_, partials_}, push[1],
                                   node_groups);
                     cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[1], reduce_groups);
                     if (multigrid) {

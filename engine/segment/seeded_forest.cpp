@@ -53,7 +53,7 @@ ForestResult SeededForest::solve(const KnnGraph& graph, const std::vector<int32_
             for (uint32_t r = 0; r < rounds; ++r) {
                 gpu::ForestPush push{{n, graph.k(), r, 0}};
                 cmd_.dispatch("segment/forest_step",
-                              {graph.rows(), graph.entries(), graph.neighbour_buffer(), graph.weight_buffer(), seed_,
+                              {graph.rows(), graph.columns(), graph.adjacency_weights(), seed_,
                                state_[current], state_[current ^ 1], changed_},
                               push, vk::ceil_div(n, gpu::kGraphGroup));
                 current ^= 1;

@@ -6,24 +6,22 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common/dispatch.glsl"
 #include "segment/graph_shared.h"
-#include "segment/graph_edge.glsl"
 
 layout(local_size_x = 256) in;
 layout(std430, binding = 0) readonly buffer Rows { uint rows[]; };
-layout(std430, binding = 1) readonly buffer Values { uint values[]; };
-layout(std430, binding = 2) readonly buffer Nbr { uint nbr[]; };
-layout(std430, binding = 3) readonly buffer Weight { float weight[]; };
-layout(std430, binding = 4) readonly buffer Seed { int seed[]; };
-layout(std430, binding = 5) readonly buffer In { uvec2 state_in[]; };   // (width bits, node past the weakest edge)
-layout(std430, binding = 6) writeonly buffer Out { uvec2 state_out[]; };
-layout(std430, binding = 7) buffer Changed { uint changed[]; };
+layout(std430, binding = 1) readonly buffer Columns { uint columns[]; };
+layout(std430, binding = 2) readonly buffer Weights { float weights[]; };
+layout(std430, binding = 3) readonly buffer Seed { int seed[]; };
+layout(std430, binding = 4) readonly buffer In { uvec2 state_in[]; };   // (width bits, node past the weakest edge)
+layout(std430, binding = 5) writeonly buffer Out { uvec2 state_out[]; };
+layout(std430, binding = 6) buffer Changed { uint changed[]; };
 layout(push_constant) uniform Push { ForestPush pc; };
 
 shared uint s_changed;
 
 void main() {
     uint i = pg_global_index();
-    uint n = pc.size.x, k = pc.size.y, half_ = n * k;
+    uint n = pc.size.x;
     if (gl_LocalInvocationIndex == 0u) s_changed = 0u;
     barrier();
     if (i < n) {
@@ -31,10 +29,9 @@ void main() {
         if (seed[i] == kWalkFree) {
             best = uvec2(0u);
             for (uint s = rows[i]; s < rows[i + 1u]; ++s) {
-                uint e = values[s];
-                uint j = EDGE_COLUMN(e, half_, k);
+                uint j = columns[s];
                 uvec2 there = state_in[j];
-                float w = weight[edge_slot(e, half_)];
+                float w = weights[s];
                 if (there.x == 0u || w <= 0.0) continue;
                 // Narrower than the neighbour's path: this edge becomes the weakest, j lies past it.
                 uvec2 cand = w < uintBitsToFloat(there.x) ? uvec2(floatBitsToUint(w), j) : there;

@@ -74,7 +74,7 @@ struct WalkCyclePush {
 // positive floats order as their bits. The label is q's, resolved on the host from the widest
 // nodes down: q is always strictly wider, so a label never outlives the path it came by, and
 // the labelling is Kruskal's seeded maximum spanning forest's (exactly, for distinct weights).
-PG_GRAPH_CONST float kForestSeedValue = 2.0f;  // above every affinity (those are <= 1)
+PG_GRAPH_CONST float kForestSeedValue = 4.0f;  // above every pair's weight (both directions' affinities, each <= 1)
 struct ForestPush {
     uvec4 size;  // x: nodes, y: k, z: this round's slot in the change counters, w: unused
 };

@@ -8,21 +8,19 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common/dispatch.glsl"
 #include "segment/graph_shared.h"
-#include "segment/graph_edge.glsl"
 
 layout(local_size_x = 256) in;
 layout(std430, binding = 0) readonly buffer Rows { uint rows[]; };
-layout(std430, binding = 1) readonly buffer Values { uint values[]; };
-layout(std430, binding = 2) readonly buffer Nbr { uint nbr[]; };
-layout(std430, binding = 3) readonly buffer Weight { float weight[]; };
-layout(std430, binding = 4) readonly buffer Degree { float degree[]; };
-layout(std430, binding = 5) readonly buffer Seed { int seed[]; };       // label, or kWalkFree
-layout(std430, binding = 6) readonly buffer Gamma { float gamma[]; };   // unary strength
-layout(std430, binding = 7) readonly buffer Prior { vec4 prior[]; };    // WALK_VECS per node
-layout(std430, binding = 8) buffer X { vec4 x[]; };                     // start, then solution
-layout(std430, binding = 9) writeonly buffer B { vec4 b[]; };
-layout(std430, binding = 10) writeonly buffer InvDiag { float inv_diag[]; };
-layout(std430, binding = 11) writeonly buffer Coupling { float coupling[]; };
+layout(std430, binding = 1) readonly buffer Columns { uint columns[]; };
+layout(std430, binding = 2) readonly buffer Weights { float weights[]; };
+layout(std430, binding = 3) readonly buffer Degree { float degree[]; };
+layout(std430, binding = 4) readonly buffer Seed { int seed[]; };       // label, or kWalkFree
+layout(std430, binding = 5) readonly buffer Gamma { float gamma[]; };   // unary strength
+layout(std430, binding = 6) readonly buffer Prior { vec4 prior[]; };    // WALK_VECS per node
+layout(std430, binding = 7) buffer X { vec4 x[]; };                     // start, then solution
+layout(std430, binding = 8) writeonly buffer B { vec4 b[]; };
+layout(std430, binding = 9) writeonly buffer InvDiag { float inv_diag[]; };
+layout(std430, binding = 10) writeonly buffer Coupling { float coupling[]; };
 layout(push_constant) uniform Push { WalkPush pc; };
 #include "segment/walk_common.glsl"
 
@@ -35,7 +33,7 @@ vec4 indicator(int label, uint c) {
 void main() {
     uint vecs = WALK_VECS;
     uint i = pg_global_index();
-    uint n = pc.size.x, k = pc.size.y;
+    uint n = pc.size.x;
     if (i >= n) return;
     int own = seed[i];
     if (own != kWalkFree) {
@@ -50,12 +48,10 @@ void main() {
     vec4 acc[kWalkVecs];
     for (uint c = 0u; c < vecs; ++c) acc[c] = gamma[i] * prior[i * vecs + c];
     float couple = gamma[i];
-    uint half_ = n * k;
     for (uint s = rows[i]; s < rows[i + 1u]; ++s) {
-        uint e = values[s];
-        int other = seed[EDGE_COLUMN(e, half_, k)];
+        int other = seed[columns[s]];
         if (other == kWalkFree) continue;
-        float w = weight[edge_slot(e, half_)];
+        float w = weights[s];
         couple += w;
         for (uint c = 0u; c < vecs; ++c) acc[c] += w * indicator(other, c);
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <queue>
 
 #include <Eigen/IterativeLinearSolvers>
@@ -122,10 +123,18 @@ std::vector<double> random_walk(const RefGraph& graph, uint32_t labels, const st
 
 RefForest seeded_forest(const RefGraph& g, const std::vector<int32_t>& seed) {
     const uint32_t n = uint32_t(seed.size()), k = g.k;
-    std::vector<uint32_t> edges;
+    // The pairs of W + W^T: a pair listed both ways weighs both slots.
+    std::map<std::pair<uint32_t, uint32_t>, float> pair_weight;
     for (uint32_t e = 0; e < g.neighbours.size(); ++e)
-        if (g.neighbours[e] < n && g.weights[e] > 0) edges.push_back(e);
-    std::stable_sort(edges.begin(), edges.end(), [&](uint32_t a, uint32_t b) { return g.weights[a] > g.weights[b]; });
+        if (const uint32_t j = g.neighbours[e]; j < n && g.weights[e] > 0)
+            pair_weight[{std::min(e / k, j), std::max(e / k, j)}] += g.weights[e];
+    struct Edge {
+        uint32_t a, b;
+        float w;
+    };
+    std::vector<Edge> edges;
+    for (const auto& [p, w] : pair_weight) edges.push_back({p.first, p.second, w});
+    std::stable_sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) { return a.w > b.w; });
     std::vector<uint32_t> parent(n);
     std::vector<int32_t> tree_label(seed);
     for (uint32_t i = 0; i < n; ++i) parent[i] = i;
@@ -133,8 +142,8 @@ RefForest seeded_forest(const RefGraph& g, const std::vector<int32_t>& seed) {
         while (parent[i] != i) i = parent[i] = parent[parent[i]];
         return i;
     };
-    for (uint32_t e : edges) {
-        uint32_t a = root(e / k), b = root(g.neighbours[e]);
+    for (const Edge& e : edges) {
+        uint32_t a = root(e.a), b = root(e.b);
         if (a == b || (tree_label[a] >= 0 && tree_label[b] >= 0 && tree_label[a] != tree_label[b])) continue;
         parent[b] = a;
         if (tree_label[a] < 0) tree_label[a] = tree_label[b];
@@ -144,14 +153,14 @@ RefForest seeded_forest(const RefGraph& g, const std::vector<int32_t>& seed) {
     for (uint32_t i = 0; i < n; ++i) out.label[i] = tree_label[root(i)];
     // Widest paths from all seeds at once: a max-heap Dijkstra where a path's value is its minimum.
     std::vector<std::vector<std::pair<uint32_t, float>>> adj(n);
-    for (uint32_t e : edges) {
-        adj[e / k].push_back({g.neighbours[e], g.weights[e]});
-        adj[g.neighbours[e]].push_back({e / k, g.weights[e]});
+    for (const Edge& e : edges) {
+        adj[e.a].push_back({e.b, e.w});
+        adj[e.b].push_back({e.a, e.w});
     }
     out.width.assign(n, 0.0f);
     std::priority_queue<std::pair<float, uint32_t>> heap;
     for (uint32_t i = 0; i < n; ++i)
-        if (seed[i] >= 0) out.width[i] = 2.0f, heap.push({2.0f, i});
+        if (seed[i] >= 0) out.width[i] = 4.0f, heap.push({4.0f, i});
     while (!heap.empty()) {
         auto [w, i] = heap.top();
         heap.pop();

@@ -38,7 +38,7 @@ std::vector<double> random_walk(const RefGraph& graph, uint32_t labels, const st
 
 struct RefForest {
     std::vector<int32_t> label;  // per node, -1 if no seed is reached
-    std::vector<float> width;    // the widest path's weakest affinity (2 at seeds, 0 if unreached)
+    std::vector<float> width;    // the widest path's weakest pair weight (4 at seeds, 0 if unreached)
 };
 
 // The seeded maximum spanning forest by Kruskal: edges of W + W^T from the strongest down, two

@@ -403,7 +403,9 @@ TEST_CASE("walk multigrid: a nearly singular walk (few seeds in a large graph) c
         return worst;
     };
     {
-        const auto got = walker.solve(graph, pr, seg::WalkOptions{});  // the default tolerance, 1e-3
+        seg::WalkOptions wo;
+        wo.tolerance = 1e-3f;
+        const auto got = walker.solve(graph, pr, wo);
         INFO("iterations " << got.iterations << ", residual " << got.residual << ", retries " << got.jacobi_retries);
         CHECK(got.jacobi_retries == 0);
         CHECK(got.residual <= 1e-3);
