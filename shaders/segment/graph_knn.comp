@@ -3,7 +3,7 @@
 // cells (exact within one cell side), nearest first, and the node's local spacing (the mean
 // distance to them). A node with fewer than k there may search further shells of cells (dims.w,
 // at most kGraphMaxShells): sparse Gaussians (large ones, floaters, thin parts) are otherwise
-// islands no seed reaches. A cell's nodes are found by a binary search in the sorted cell keys.
+// islands no seed reaches. A row of cells' nodes are found by a binary search in the sorted cell keys.
 #extension GL_GOOGLE_include_directive : require
 #include "common/dispatch.glsl"
 #include "segment/graph_shared.h"
@@ -40,22 +40,29 @@ void main() {
     int shells = int(min(max(pc.dims.w, 1u), kGraphMaxShells));
     for (int ring = 0; ring <= shells && (ring <= 1 || found < k); ++ring)
         for (int dz = -ring; dz <= ring; ++dz)
-            for (int dy = -ring; dy <= ring; ++dy)
-                for (int dx = -ring; dx <= ring; ++dx) {
-                    // Ring 0 is the node's cell, ring r the shell of cells r steps away.
-                    if (max(abs(dx), max(abs(dy), abs(dz))) != ring) continue;
-                    ivec3 q = c + ivec3(dx, dy, dz);
-                    if (any(lessThan(q, ivec3(0))) || any(greaterThanEqual(q, ivec3(pc.dims.xyz)))) continue;
-                    uint key = cell_key(q, pc.bits);
-                    for (uint s = lower_bound(key, n); s < n && keys[s] == key; ++s) {
+            for (int dy = -ring; dy <= ring; ++dy) {
+                // Ring 0 is the node's cell, ring r the shell of cells r steps away. Cells adjacent
+                // in x have consecutive keys, so a row of the shell is one run of the sorted keys
+                // (one binary search, not one per cell); a row inside the shell holds two cells.
+                ivec2 q = c.yz + ivec2(dy, dz);
+                if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(pc.dims.yz)))) continue;
+                bool whole = max(abs(dy), abs(dz)) == ring;
+                for (int part = 0; part < (whole ? 1 : 2); ++part) {
+                    int x0 = whole || part == 0 ? c.x - ring : c.x + ring;
+                    int x1 = whole || part == 1 ? c.x + ring : c.x - ring;
+                    x0 = max(x0, 0);
+                    x1 = min(x1, int(pc.dims.x) - 1);
+                    if (x0 > x1) continue;
+                    uint first = cell_key(ivec3(x0, q), pc.bits), last = cell_key(ivec3(x1, q), pc.bits);
+                    for (uint s = lower_bound(first, n); s < n && keys[s] <= last; ++s) {
                         uint j = values[s];
                         if (j == i) continue;
                         vec3 d = pos[j].xyz - p;
                         float d2 = dot(d, d);
                         // Ties go to the smaller node id, so the result does not depend on the scan order.
-                        uint last = k - 1u;
-                        if (d2 > best_d[last] || (d2 == best_d[last] && j >= best_j[last])) continue;
-                        uint t = last;
+                        uint tail = k - 1u;
+                        if (d2 > best_d[tail] || (d2 == best_d[tail] && j >= best_j[tail])) continue;
+                        uint t = tail;
                         while (t > 0u && (d2 < best_d[t - 1u] || (d2 == best_d[t - 1u] && j < best_j[t - 1u]))) {
                             best_d[t] = best_d[t - 1u];
                             best_j[t] = best_j[t - 1u];
@@ -66,6 +73,7 @@ void main() {
                         found = min(found + 1u, k);
                     }
                 }
+            }
     float sum = 0.0;
     for (uint t = 0u; t < k; ++t) {
         bool ok = t < found;
