@@ -53,6 +53,19 @@ double PointGrid::nearest(glm::vec3 p, uint32_t exclude, int max_rings, uint32_t
     for (int k = 0; k <= max_rings; ++k) {
         // Every point in ring k is at least (k - 1) cells away along some axis.
         if (best >= 0 && k >= 1 && double(k - 1) * cell_ * (k - 1) * cell_ >= best) break;
+        if (k >= 2 && double(2 * k + 1) * (2 * k + 1) * (2 * k + 1) > 4.0 * double(cell_list_.size())) {
+            // The rings left hold more cells than are occupied (a query far from every point,
+            // or the points bunched in a few cells): every indexed point within max_rings
+            // instead, the same answer without visiting millions of empty cells.
+            for (uint32_t j : sorted_) {
+                const glm::ivec3 off = glm::abs(cell_of(positions_[j]) - c);
+                if (j == exclude || std::max(off.x, std::max(off.y, off.z)) > max_rings) continue;
+                const glm::dvec3 d = glm::dvec3(positions_[j]) - pd;
+                const double d2 = glm::dot(d, d);
+                if (best < 0 || d2 < best || (d2 == best && j < *index)) best = d2, *index = j;
+            }
+            return best;
+        }
         for (int dz = -k; dz <= k; ++dz)
             for (int dy = -k; dy <= k; ++dy) {
                 const bool face = std::abs(dz) == k || std::abs(dy) == k;
@@ -64,6 +77,10 @@ double PointGrid::nearest(glm::vec3 p, uint32_t exclude, int max_rings, uint32_t
                         if (best < 0 || d2 < best || (d2 == best && j < *index)) {
                             best = d2;
                             *index = j;
+                            // A point at p itself is in p's cell, which lists its points in index
+                            // order: the first found is the answer (and thousands of Gaussians
+                            // collapsed onto one point cost one look each, not a scan each).
+                            if (d2 == 0) return 0;
                         }
                     }
                     if (k == 0) break;

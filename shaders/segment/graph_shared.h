@@ -19,6 +19,7 @@ using uint = uint32_t;
 PG_GRAPH_CONST uint kGraphGroup = 256;
 PG_GRAPH_CONST uint kGraphMaxK = 16;         // neighbours kept per node (the k option <= this)
 PG_GRAPH_CONST uint kGraphNone = 0xFFFFFFFFu;  // an empty neighbour slot
+PG_GRAPH_CONST uint kGraphMaxScan = 4096;      // kNN candidates one node looks at, at most
 PG_GRAPH_CONST uint kGraphMaxShells = 4;     // most shells of cells a node short of k neighbours searches
 PG_GRAPH_CONST uint kWalkMaxLabels = 16;     // label columns of one solve (more run as several)
 PG_GRAPH_CONST uint kWalkVecs = kWalkMaxLabels / 4;  // most vec4s per node (a solve uses ceil(labels / 4))

@@ -97,6 +97,39 @@ TEST_CASE("graph: k nearest neighbours and affinities match a brute-force CPU se
     }(), data::InputError);
 }
 
+TEST_CASE("graph: thousands of Gaussians collapsed onto one point keep the neighbour search bounded and the rest exact") {
+    // Exports that park pruned Gaussians at one point put thousands in one grid cell: past
+    // kGraphMaxScan candidates a node keeps the nearest found (all at distance 0 here), so
+    // the search stays linear in the nodes; nodes away from that cell are still exact.
+    auto scene = ref::random_scene(31, 9000, 1);
+    const glm::vec3 point = scene.cloud.mean[0];
+    const uint32_t collapsed = 6000;
+    REQUIRE(collapsed > seg::gpu::kGraphMaxScan);  // the cap is reached
+    for (uint32_t i = 0; i < collapsed; ++i) scene.cloud.mean[i * 3 / 2] = point;  // two of every three
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, scene.cloud);
+    seg::KnnGraph graph(ctx);
+    seg::GraphOptions o;
+    const auto domain = all_of(scene.cloud);
+    graph.build(gpu, scene.cloud, domain, o);
+    const auto got = graph.neighbours();
+    const size_t k = o.k;
+    auto nodes = ref::graph_nodes(scene.cloud, domain);
+    auto want = ref::knn_graph(nodes, o.k, graph.cell_side(), o.colour, o.normal, o.distance);
+    size_t at_point = 0, away = 0;
+    for (size_t i = 0; i < domain.size(); ++i) {
+        if (scene.cloud.mean[i] == point) {
+            ++at_point;
+            for (size_t t = 0; t < k; ++t) CHECK((got[i * k + t] < domain.size() && scene.cloud.mean[got[i * k + t]] == point));
+        } else if (glm::length(scene.cloud.mean[i] - point) > 4.0f * graph.cell_side()) {
+            ++away;
+            for (size_t t = 0; t < k; ++t) CHECK(got[i * k + t] == want.neighbours[i * k + t]);
+        }
+    }
+    CHECK(at_point >= collapsed);
+    CHECK(away > domain.size() / 10);
+}
+
 TEST_CASE("graph: the order a domain lists its Gaussians in changes no spacing, cell or neighbour") {
     // The segmenter numbers nodes in Morton order (for the passes' memory access), so the graph
     // must be the same graph whatever the numbering: the median spacing (hence the cell side
