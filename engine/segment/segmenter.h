@@ -201,14 +201,14 @@ private:
         LabelColumns x;
         std::vector<uint32_t> nearest;  // fine node -> its nearest coarse node (kNoCoarse: none)
     };
-    // `settled` (if given): fine nodes whose nearest coarse node is not wanted (kNoCoarse).
     CoarseSolve coarse_solve(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine,
-                             bool spread_clicks, bool scene_order, bool walk = true,
-                             const std::vector<uint8_t>* settled = nullptr);
-    // A starting point for the fine solve: each node starts from its nearest coarse node's answer
-    // (the `settled` ones, if given, from 0).
-    LabelColumns coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine,
-                              const std::vector<uint8_t>* settled = nullptr);
+                             bool spread_clicks, bool scene_order, bool walk = true);
+    // A starting point for the fine solve: each node starts from its nearest coarse node's answer.
+    LabelColumns coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine);
+    // After a walk: each graph component that no seed or prior reaches takes the bridge-weighted
+    // mean of the answers at its nodes' nearest seeded-component nodes (`root`: component roots).
+    void bridge_components(const SegmentOptions& o, const std::vector<uint32_t>& domain,
+                           const std::vector<uint32_t>& root, const WalkProblem& pr, LabelColumns& x) const;
     Anchor anchor_for(const data::PromptClick& click, const SegmentOptions& o, const std::string& what);
 
     vk::Context& ctx_;

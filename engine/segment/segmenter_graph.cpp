@@ -171,7 +171,11 @@ NodeLabels walk_then_forest(SeededForest& forest, const KnnGraph& graph, std::ve
         if (seed[i] < 0 && w.arg[i] >= 0 && w.share[i] >= sure) seed[i] = w.arg[i];
     auto f = forest.solve(graph, seed, fo);
     NodeLabels out{std::move(f.label), std::vector<float>(seed.size(), 0.0f), f.rounds, f.free_nodes};
-    for (size_t i = 0; i < seed.size(); ++i) out.confidence[i] = w.arg[i] == out.label[i] ? w.share[i] : 0.5f;
+    for (size_t i = 0; i < seed.size(); ++i) {
+        // A component the forest cannot reach (no seed, an answer bridged over) keeps the walk's label.
+        if (out.label[i] < 0) out.label[i] = w.arg[i];
+        out.confidence[i] = w.arg[i] == out.label[i] ? w.share[i] : 0.5f;
+    }
     return out;
 }
 
@@ -179,7 +183,7 @@ NodeLabels walk_then_forest(SeededForest& forest, const KnnGraph& graph, std::ve
 
 Segmenter::CoarseSolve Segmenter::coarse_solve(const SegmentOptions& o, const std::vector<uint32_t>& domain,
                                                const WalkProblem& fine, bool spread_clicks, bool scene_order,
-                                               bool walk, const std::vector<uint8_t>* settled) {
+                                               bool walk) {
     // The same problem on every coarse_stride-th node (and every object's click): a graph
     // with fewer hops across, solved in a fraction of the fine solve's iterations.
     // `scene_order`: every stride-th in scene order; else in the nodes' Morton order, a uniform
@@ -235,15 +239,14 @@ Segmenter::CoarseSolve Segmenter::coarse_solve(const SegmentOptions& o, const st
     for (uint32_t c = 0; c < m; ++c) all[c] = c;
     data::clicks::PointGrid grid(positions, all, std::max(coarse_graph_.cell_side(), 1e-6f));
     cs.nearest.assign(nodes, kNoCoarse);
-    for (uint32_t i = 0; i < nodes; ++i)
-        if (!settled || !(*settled)[i]) grid.nearest(cloud_.mean[domain[i]], 0xFFFFFFFFu, 64, &cs.nearest[i]);
+    for (uint32_t i = 0; i < nodes; ++i) grid.nearest(cloud_.mean[domain[i]], 0xFFFFFFFFu, 64, &cs.nearest[i]);
     return cs;
 }
 
 LabelColumns Segmenter::coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain,
-                                     const WalkProblem& fine, const std::vector<uint8_t>* settled) {
+                                     const WalkProblem& fine) {
     // Each fine node starts from its nearest coarse node's answer, so the fine solve only sharpens it.
-    const CoarseSolve cs = coarse_solve(o, domain, fine, false, true, true, settled);
+    const CoarseSolve cs = coarse_solve(o, domain, fine, false, true);
     LabelColumns start(uint32_t(domain.size()), fine.labels, cs.x.sparse());
     for (uint32_t i = 0; i < domain.size(); ++i)
         if (cs.nearest[i] != kNoCoarse) start.copy_node(i, cs.x, cs.nearest[i]);
@@ -526,39 +529,32 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
     const auto root = component_roots(graph_, nbr);
     result.stage_ms["graph components"] += ms_since(t0);
     if (!warm && o.coarse_stride > 1 && nodes >= 64 * o.coarse_stride) {
-        // Multigrid needs no head start where seeds or priors reach (its coarse levels carry
-        // the far-reaching part, and the coarse answer's roughness costs it iterations): there
-        // it starts from the prior. The coarse start stays where the fine graph's component has
-        // nothing to start from, which only the coarse graph joins to the rest; with every
-        // component seeded the coarse solve runs only for a caller that shows its answer.
-        const bool multigrid = o.walk.preconditioner == WalkPreconditioner::Multigrid;
-        const auto seeded = multigrid ? seeded_components(root, pr) : std::vector<uint8_t>{};
-        const bool needed = !multigrid || std::count(seeded.begin(), seeded.end(), 0) > 0;
-        if (needed || o.on_coarse) {
+        // Jacobi starts from the coarse answer (it needs about an iteration per hop); multigrid
+        // from the prior (its coarse levels carry the far-reaching part, and the coarse answer's
+        // roughness costs it iterations), so there the coarse solve runs only for a caller that
+        // shows its answer.
+        const bool jacobi = o.walk.preconditioner == WalkPreconditioner::Jacobi;
+        if (jacobi || o.on_coarse) {
             auto t1 = Clock::now();
-            // Multigrid starts the seeded components from the prior: their nearest coarse nodes
-            // are not looked up (a third of the coarse start on the 150 k tiled guitar).
-            auto coarse = coarse_start(o, domain, pr, multigrid && !o.on_coarse ? &seeded : nullptr);
+            auto coarse = coarse_start(o, domain, pr);
             result.stage_ms["graph coarse start"] += ms_since(t1);
             if (o.on_coarse) {
                 const WalkLabels w = coarse.most_likely(nullptr);
                 coarse_answer(o, objects, domain, w.arg, w.share, result);
             }
-            if (needed) {
-                start = std::move(coarse);
-                const std::vector<float> zero(labels, 0.0f);
-                for (uint32_t i = 0; multigrid && i < nodes; ++i)
-                    if (seeded[i]) start.set_node(i, pr.prior.empty() ? zero.data() : &pr.prior[size_t(i) * labels]);
-            }
+            if (jacobi) start = std::move(coarse);
         }
     }
     GraphReport report = graph_report(graph_, GraphSolver::Walk, pr.seed);
-    // A component of the graph with no seed, prior or coarse start has no answer (its system is
-    // singular and keeps whatever it started from): it stays unlabelled and is counted.
-    const auto reached = reached_components(root, pr, start, report);
     t0 = Clock::now();
     auto solution = walker_.solve(graph_, pr, start, o.walk);  // the start becomes the answer
     result.stage_ms["graph walk"] += ms_since(t0);
+    t0 = Clock::now();
+    bridge_components(o, domain, root, pr, start);
+    result.stage_ms["graph bridges"] += ms_since(t0);
+    // A component with no seed, prior or bridge within reach has no answer: it stays unlabelled
+    // and is counted.
+    const auto reached = reached_components(root, pr, start, report);
 
     report.iterations = solution.iterations;
     report.levels = solution.levels;
@@ -588,6 +584,53 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
             if (w.arg[i] > 0) objects[size_t(w.arg[i]) - 1]->claims.push_back({domain[i], w.share[i]});
     }
     result.graph = report;
+}
+
+void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uint32_t>& domain,
+                                  const std::vector<uint32_t>& root, const WalkProblem& pr, LabelColumns& x) const {
+    // A component that no seed or prior reaches is a singular system the walk leaves as it
+    // started. Each of its nodes is bridged to its nearest node in a seeded component (within 4
+    // grid cells, about 10 spacings: past that the affinity is below e^-100), the bridge weighing
+    // the edges' affinity (colour, distance in median spacings, opacity; no normal term); the
+    // component takes the bridge-weighted mean of the answers at the far ends, as the walk would
+    // if those bridges were its only edges out. Bridges that all vanish leave it unlabelled.
+    const uint32_t nodes = uint32_t(domain.size()), labels = pr.labels;
+    const auto seeded = seeded_components(root, pr);
+    std::vector<uint32_t> members;
+    for (uint32_t i = 0; i < nodes; ++i)
+        if (seeded[i]) members.push_back(i);
+    if (members.empty() || members.size() == nodes) return;
+    std::vector<glm::vec3> position(nodes), colour(nodes);
+    std::vector<float> opacity(nodes);
+    const size_t coeffs = size_t(cloud_.coeffs());
+    for (uint32_t i = 0; i < nodes; ++i) {
+        const uint32_t g = domain[i];
+        position[i] = cloud_.mean[g];
+        for (int c = 0; c < 3; ++c) colour[i][c] = std::clamp(0.5f + data::kShC0 * cloud_.sh[g * coeffs * 3 + c], 0.0f, 1.0f);
+        opacity[i] = 1.0f / (1.0f + std::exp(-cloud_.opacity_logit[g]));
+    }
+    const GraphOptions& go = o.graph_options;
+    const double spacing = double(graph_.median_spacing()) * go.distance;
+    data::clicks::PointGrid grid(position, members, std::max(graph_.cell_side(), 1e-6f));
+    std::vector<double> weight(nodes, 0.0), sum(size_t(nodes) * labels, 0.0);  // per component root
+    for (uint32_t i = 0; i < nodes; ++i) {
+        uint32_t j = 0;
+        if (seeded[i]) continue;
+        const double d2 = grid.nearest(position[i], 0xFFFFFFFFu, 4, &j);
+        if (d2 < 0) continue;
+        const glm::vec3 dc = colour[i] - colour[j];
+        const double a = std::exp(-double(go.colour) * glm::dot(dc, dc) - d2 / (spacing * spacing)) *
+                         std::pow(double(std::min(opacity[i], opacity[j])), double(go.opacity));
+        weight[root[i]] += a;
+        for (uint32_t l = 0; l < labels; ++l) sum[size_t(root[i]) * labels + l] += a * x.at(j, l);
+    }
+    std::vector<float> values(labels);
+    for (uint32_t i = 0; i < nodes; ++i) {
+        const uint32_t r = root[i];
+        if (seeded[i] || !(weight[r] > 0)) continue;
+        for (uint32_t l = 0; l < labels; ++l) values[l] = float(sum[size_t(r) * labels + l] / weight[r]);
+        x.set_node(i, values.data());
+    }
 }
 
 void Segmenter::solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>& objects,

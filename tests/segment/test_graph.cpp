@@ -353,6 +353,42 @@ TEST_CASE("graph decoder: each object's click takes its own object, unclicked co
         }
 }
 
+TEST_CASE("graph decoder: a piece split off an object's graph follows the object it is bridged to, a far one stays unlabelled") {
+    // A dense pebble of the left ball's colour 0.12 beside it: every node's neighbours lie inside
+    // it, so it is a component no seed reaches; its bridges (its nodes' nearest seeded nodes, all
+    // on the ball) carry the ball's answer over. The floating cluster is beyond any bridge's reach.
+    auto s = balls_scene();
+    ref::Rng rng(12);
+    const uint32_t pebble_first = uint32_t(s.cloud.size());
+    for (int i = 0; i < 80; ++i) {
+        ref::add_gaussian(s.cloud, glm::vec3(-1.37f + rng.uniform(-0.01f, 0.01f), -0.26f + rng.uniform(-0.01f, 0.01f),
+                                             rng.uniform(-0.01f, 0.01f)),
+                          glm::vec3(std::log(0.005f)), glm::vec4(1, 0, 0, 0), 4.0f, ref::dc_from_rgb({0.9f, 0.1f, 0.1f}));
+        s.ball.push_back(5);
+    }
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, s.cloud);
+    seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras);
+    seg::SegmentOptions o;
+    o.up = {0, -1, 0};
+    o.scale = 0.5;
+    o.graph = seg::GraphUse::Alone;
+    data::Prompts p;
+    p.objects.push_back({"left", 1, {point_click({-1.0, -0.51, 0.0})}});
+    p.objects.push_back({"middle", 2, {point_click({0.0, -0.26, -0.25})}});
+    auto r = segmenter.segment(p, o);
+    REQUIRE(r.graph);
+    CHECK(iou(r.labels, 1, s.ball, 1) > 0.9);
+    size_t pebble_left = 0, floating_labelled = 0;
+    for (size_t i = 0; i < s.ball.size(); ++i) {
+        pebble_left += i >= pebble_first && r.labels[i] == 1;
+        floating_labelled += s.ball[i] == 4 && r.labels[i] != 0;
+    }
+    CHECK(pebble_left == 80);
+    CHECK(floating_labelled == 0);
+    CHECK(r.graph->unreached >= 60);  // the floating cluster, counted
+}
+
 TEST_CASE("segmenter: an object whose clicks cannot be lifted fails alone, the others are segmented") {
     auto s = balls_scene();
     auto& ctx = test::gpu();

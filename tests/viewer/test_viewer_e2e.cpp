@@ -334,7 +334,9 @@ TEST_CASE("the viewer opens a SOG and exports the scene and the clicked object a
     CHECK(pg::data::load_scene(dir / "export" / "scene.sog").size() == 1158);
     REQUIRE(fs::exists(dir / "export" / "objects" / "desk.sog"));
     const auto object = pg::data::load_scene(dir / "export" / "objects" / "desk.sog");
-    CHECK(object.size() > 10);
+    // A desk at 1/320 of the suite's density (tools/make_sog_fixtures.sh): its graph is 187
+    // pieces, and the clicked object a handful of Gaussians (10 with bridged components).
+    CHECK(object.size() > 5);
     CHECK(object.size() < 1158);
     CHECK(object.sh_degree == 3);
 }
