@@ -300,6 +300,23 @@ double iou(const std::vector<int32_t>& labels, int id, const std::vector<int32_t
     return uni ? double(inter) / double(uni) : 0.0;
 }
 
+// What the balls-scene tests share: the graph alone, y-down, ROI columns 1.25 wide per click.
+seg::SegmentOptions balls_options() {
+    seg::SegmentOptions o;
+    o.up = {0, -1, 0};
+    o.scale = 0.5;
+    o.graph = seg::GraphUse::Alone;
+    return o;
+}
+
+// A 3D click on top of the left ball (object 1) and one on the middle ball's front (object 2).
+data::Prompts left_and_middle() {
+    data::Prompts p;
+    p.objects.push_back({"left", 1, {point_click({-1.0, -0.51, 0.0})}});
+    p.objects.push_back({"middle", 2, {point_click({0.0, -0.26, -0.25})}});
+    return p;
+}
+
 }  // namespace
 
 TEST_CASE("graph decoder: each object's click takes its own object, unclicked content stays unlabelled") {
@@ -369,13 +386,8 @@ TEST_CASE("graph decoder: a piece split off an object's graph follows the object
     auto& ctx = test::gpu();
     render::GpuScene gpu(ctx, s.cloud);
     seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras);
-    seg::SegmentOptions o;
-    o.up = {0, -1, 0};
-    o.scale = 0.5;
-    o.graph = seg::GraphUse::Alone;
-    data::Prompts p;
-    p.objects.push_back({"left", 1, {point_click({-1.0, -0.51, 0.0})}});
-    p.objects.push_back({"middle", 2, {point_click({0.0, -0.26, -0.25})}});
+    seg::SegmentOptions o = balls_options();
+    data::Prompts p = left_and_middle();
     auto r = segmenter.segment(p, o);
     REQUIRE(r.graph);
     CHECK(iou(r.labels, 1, s.ball, 1) > 0.9);
@@ -394,10 +406,7 @@ TEST_CASE("segmenter: an object whose clicks cannot be lifted fails alone, the o
     auto& ctx = test::gpu();
     render::GpuScene gpu(ctx, s.cloud);
     seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras);
-    seg::SegmentOptions o;
-    o.up = {0, -1, 0};
-    o.scale = 0.5;
-    o.graph = seg::GraphUse::Alone;
+    seg::SegmentOptions o = balls_options();
     o.graph_options.colour = 10.0f;
     data::Prompts p;
     p.objects.push_back({"off", 1, {{"front", 500.0, 10.0, std::nullopt, true}}});        // off the image
@@ -426,10 +435,7 @@ TEST_CASE("a streamed scene segments like the resident one: lifts, ROI, graph an
     render::GpuScene resident(ctx, s.cloud), streamed(ctx, s.cloud, budget);
     REQUIRE(streamed.streamed());
     seg::Segmenter a(ctx, s.cloud, resident, s.cameras), b(ctx, s.cloud, streamed, s.cameras);
-    seg::SegmentOptions o;
-    o.up = {0, -1, 0};
-    o.scale = 0.5;
-    o.graph = seg::GraphUse::Alone;
+    seg::SegmentOptions o = balls_options();
     o.graph_options.colour = 10.0f;
     // Pixel clicks (lifted through a render) on the left and middle balls, a 3D one on the right.
     const data::Camera& cam = s.cameras[0];
@@ -480,14 +486,9 @@ TEST_CASE("graph decoder: a domain past the graph's node limit is solved on ever
     auto& ctx = test::gpu();
     render::GpuScene gpu(ctx, s.cloud);
     seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras);
-    seg::SegmentOptions o;
-    o.up = {0, -1, 0};
-    o.scale = 0.5;
-    o.graph = seg::GraphUse::Alone;
+    seg::SegmentOptions o = balls_options();
     o.graph_options.colour = 10.0f;
-    data::Prompts p;
-    p.objects.push_back({"left", 1, {point_click({-1.0, -0.51, 0.0})}});
-    p.objects.push_back({"middle", 2, {point_click({0.0, -0.26, -0.25})}});
+    data::Prompts p = left_and_middle();
     for (auto solver : {seg::GraphSolver::Walk, seg::GraphSolver::Forest, seg::GraphSolver::WalkForest}) {
         INFO("solver " << seg::graph_solver_name(solver));
         o.solver = solver;
@@ -527,15 +528,10 @@ TEST_CASE("graph decoder: a cold solve hands over a coarse answer first, and a c
     auto s = balls_scene();
     auto& ctx = test::gpu();
     render::GpuScene gpu(ctx, s.cloud);
-    seg::SegmentOptions o;
-    o.up = {0, -1, 0};
-    o.scale = 0.5;
-    o.graph = seg::GraphUse::Alone;
+    seg::SegmentOptions o = balls_options();
     o.graph_options.colour = 10.0f;
     REQUIRE(s.cloud.size() >= 64 * o.coarse_stride);  // big enough for a coarse graph
-    data::Prompts p;
-    p.objects.push_back({"left", 1, {point_click({-1.0, -0.51, 0.0})}});
-    p.objects.push_back({"middle", 2, {point_click({0.0, -0.26, -0.25})}});
+    data::Prompts p = left_and_middle();
 
     seg::Segmenter first(ctx, s.cloud, gpu, s.cameras);
     int answers = 0;
