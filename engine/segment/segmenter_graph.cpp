@@ -612,24 +612,37 @@ void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uin
     const GraphOptions& go = o.graph_options;
     const double spacing = double(graph_.median_spacing()) * go.distance;
     data::clicks::PointGrid grid(position, members, std::max(graph_.cell_side(), 1e-6f));
-    std::vector<double> weight(nodes, 0.0), sum(size_t(nodes) * labels, 0.0);  // per component root
+    // Each unseeded node's bridge (far end, weight), then component by component (nodes grouped
+    // by root): memory stays one label vector, whatever the number of labels and components.
+    std::vector<uint32_t> end(nodes, 0), unseeded;
+    std::vector<double> bridge(nodes, 0.0);
     for (uint32_t i = 0; i < nodes; ++i) {
-        uint32_t j = 0;
         if (seeded[i]) continue;
-        const double d2 = grid.nearest(position[i], 0xFFFFFFFFu, 4, &j);
+        unseeded.push_back(i);
+        const double d2 = grid.nearest(position[i], 0xFFFFFFFFu, 4, &end[i]);
         if (d2 < 0) continue;
-        const glm::vec3 dc = colour[i] - colour[j];
-        const double a = std::exp(-double(go.colour) * glm::dot(dc, dc) - d2 / (spacing * spacing)) *
-                         std::pow(double(std::min(opacity[i], opacity[j])), double(go.opacity));
-        weight[root[i]] += a;
-        for (uint32_t l = 0; l < labels; ++l) sum[size_t(root[i]) * labels + l] += a * x.at(j, l);
+        const glm::vec3 dc = colour[i] - colour[end[i]];
+        bridge[i] = std::exp(-double(go.colour) * glm::dot(dc, dc) - d2 / (spacing * spacing)) *
+                    std::pow(double(std::min(opacity[i], opacity[end[i]])), double(go.opacity));
     }
+    std::stable_sort(unseeded.begin(), unseeded.end(), [&](uint32_t a, uint32_t b) { return root[a] < root[b]; });
+    std::vector<double> sum(labels);
     std::vector<float> values(labels);
-    for (uint32_t i = 0; i < nodes; ++i) {
-        const uint32_t r = root[i];
-        if (seeded[i] || !(weight[r] > 0)) continue;
-        for (uint32_t l = 0; l < labels; ++l) values[l] = float(sum[size_t(r) * labels + l] / weight[r]);
-        x.set_node(i, values.data());
+    for (size_t b = 0; b < unseeded.size();) {
+        size_t e = b;
+        double weight = 0;
+        std::fill(sum.begin(), sum.end(), 0.0);
+        for (; e < unseeded.size() && root[unseeded[e]] == root[unseeded[b]]; ++e) {
+            const uint32_t i = unseeded[e];
+            if (!(bridge[i] > 0)) continue;
+            weight += bridge[i];
+            for (uint32_t l = 0; l < labels; ++l) sum[l] += bridge[i] * x.at(end[i], l);
+        }
+        if (weight > 0) {
+            for (uint32_t l = 0; l < labels; ++l) values[l] = float(sum[l] / weight);
+            for (size_t t = b; t < e; ++t) x.set_node(unseeded[t], values.data());
+        }
+        b = e;
     }
 }
 
