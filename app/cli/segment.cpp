@@ -261,7 +261,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--unary-confidence", a->unary_confidence, "ptv3+graph: the network's probabilities count only where its most likely label reaches this")->capture_default_str();
     cmd->add_option("--walk-iterations", a->walk.max_iterations, "Graph: most conjugate-gradient iterations")->capture_default_str();
     cmd->add_option("--walk-dense-labels", a->walk.dense_labels, "Graph: up to this many labels (objects + background) every node keeps every label's value; past it each node keeps its 16 largest (same labels, flat memory)")->capture_default_str();
-    cmd->add_option("--walk-coarse", a->coarse, "Graph: a first solve on every n-th Gaussian starts the full one (1: none; with multigrid it only labels the fine graph's components that hold no seed)")->capture_default_str();
+    cmd->add_option("--walk-coarse", a->coarse, "Graph: a first solve on every n-th Gaussian (1: none): the viewer's early answer, and where a Jacobi-preconditioned solve starts (multigrid starts from the prior)")->capture_default_str();
     cmd->add_option("--walk-sure", a->walk_sure, "walk+forest: the walk's label stands where its share of the probability reaches this")->capture_default_str();
     cmd->add_option("--walk-tolerance", a->walk.tolerance, "Graph: relative residual to stop at")->capture_default_str();
     cmd->add_option("--walk-preconditioner", a->preconditioner, "Graph: the conjugate gradient's preconditioner: multigrid (an aggregation V-cycle) or jacobi (the diagonal)")->capture_default_str();
