@@ -68,8 +68,6 @@ public:
     const vk::Buffer& rows() const { return rows_; }  // n + 1 starts into the next two
     const vk::Buffer& columns() const { return columns_; }
     const vk::Buffer& adjacency_weights() const { return adjacency_weights_; }
-    const vk::Buffer& neighbour_buffer() const { return nbr_; }
-    const vk::Buffer& weight_buffer() const { return weight_; }
     const vk::Buffer& degree_buffer() const { return degree_; }
 
 private:

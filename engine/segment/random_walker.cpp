@@ -281,7 +281,8 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
             cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[3], reduce_groups);
             cmd_.end_pass();
             if (base == 0 && use_multigrid && !jacobi_retry) {
-                // The hierarchy needs walk_edges' arrays (the same for every column batch).
+                // The hierarchy (built on the host from the graph's host copy, once for every
+                // column batch) comes after the start's passes.
                 cmd_.submit_and_wait();
                 for (auto& t : cmd_.timings()) timings_.push_back(t);
                 stop_if_cancelled(o.cancel);

@@ -44,10 +44,10 @@ struct GraphWeightsPush {
     uvec4 size;  // x: nodes, y: k
 };
 
-// graph_edge_keys, graph_rows, graph_degree: the symmetric adjacency W + W^T as rows of
-// directed-edge ids (e < n*k: slot e of the kNN table; else the reverse of slot e - n*k).
+// graph_edge_keys, graph_row_counts, graph_rows: the symmetric adjacency W + W^T as CSR rows
+// of columns and weights, each pair once.
 struct GraphEdgesPush {
-    uvec4 size;  // x: nodes, y: k, z: entries (2 n k), w: unused
+    uvec4 size;  // x: nodes, y: k, z: at most 2 n k entries, w: unused
 };
 
 // walk_*: the random walker's preconditioned conjugate gradient over up to kWalkMaxLabels
