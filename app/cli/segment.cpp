@@ -1,5 +1,6 @@
 // pointgauss segment: clicks in, 3D labels and per-view masks out.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -44,6 +45,8 @@ struct SegmentArgs {
     uint32_t coarse = 8;
     uint64_t graph_max_nodes = 0;
     double margin = 0.5;
+    std::vector<double> scales{1.0, 2.0};
+    double scale_ratio = 0.25;
     uint64_t seed = 1;
     DeviceOptions device;
 };
@@ -113,6 +116,12 @@ void run_segment(const SegmentArgs& args) {
     o.coarse_stride = a.coarse;
     o.graph_max_nodes = a.graph_max_nodes;
     o.graph_margin = a.margin;
+    for (double f : a.scales)
+        if (!(f > 0 && std::isfinite(f))) throw data::InputError("--graph-scales", "expected factors > 0, got " + std::to_string(f));
+    if (!(a.scale_ratio > 0 && a.scale_ratio <= 1))
+        throw data::InputError("--graph-scale-ratio", "expected a ratio in (0, 1], got " + std::to_string(a.scale_ratio));
+    o.graph_scales = a.scales;
+    o.graph_scale_ratio = a.scale_ratio;
     o.solver = solver;
     o.walk_sure = a.walk_sure;
     o.lift = lift;
@@ -170,6 +179,12 @@ void run_segment(const SegmentArgs& args) {
         nlohmann::json jo{{"id", obj.id},          {"name", obj.name},       {"roi_gaussians", obj.roi_gaussians},
                           {"batches", obj.batches}, {"gaussians", obj.labelled}, {"sigma", obj.sigma},
                           {"roi", {obj.roi.length, obj.roi.width}}};
+        if (graph_use != seg::GraphUse::None && obj.error.empty())
+        {
+            jo["graph_roi_scale"] = obj.graph_scale, jo["boundary_contrast"] = obj.boundary_contrast;
+            for (auto [scale, contrast, claimed] : obj.scale_answers)
+                jo["roi_scales"].push_back({{"scale", scale}, {"boundary_contrast", contrast}, {"claimed", claimed}});
+        }
         if (!obj.error.empty()) jo["error"] = obj.error;
         if (graph_use == seg::GraphUse::Unary) jo["network_prior"] = obj.network_trusted;
         // fallback: the click's pixel never reached tau (under --lift tau it lifted at tau x its final
@@ -256,7 +271,9 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--graph-opacity", a->graph.opacity, "Graph: an edge's weight has the factor min(opacity)^this (0: opacity plays no part)")->capture_default_str();
     cmd->add_option("--graph-distance", a->graph.distance, "Graph: distance fall-off in local spacings")->capture_default_str();
     cmd->add_option("--graph-max-nodes", a->graph_max_nodes, "Graph: most nodes one graph holds (0: what the device's largest binding allows); a larger domain is solved on every n-th Gaussian, the rest labelled as their nearest solved one")->capture_default_str();
-    cmd->add_option("--graph-margin", a->margin, "Graph: the solve's domain is the ROIs widened by this fraction per side; what lies in the margin seeds the background")->capture_default_str();
+    cmd->add_option("--graph-margin", a->margin, "Graph: the solve's domain is the largest scaled ROIs widened by this fraction per side; what lies in the margin seeds the background")->capture_default_str();
+    cmd->add_option("--graph-scales", a->scales, "Graph: the background's boundary at each object's ROI scaled by each of these, one solve each; per object the smallest scale's answer stands unless a larger one's boundary contrast is below --graph-scale-ratio times its own")->delimiter(',')->capture_default_str();
+    cmd->add_option("--graph-scale-ratio", a->scale_ratio, "Graph: how much weaker (mean cut edge weight over mean inside edge weight) a larger ROI's boundary must be to win")->capture_default_str();
     cmd->add_option("--unary", a->unary, "ptv3+graph: strength of the network's probabilities, in units of a Gaussian's degree")->capture_default_str();
     cmd->add_option("--unary-confidence", a->unary_confidence, "ptv3+graph: the network's probabilities count only where its most likely label reaches this")->capture_default_str();
     cmd->add_option("--walk-iterations", a->walk.max_iterations, "Graph: most conjugate-gradient iterations")->capture_default_str();

@@ -10,6 +10,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "dataset/camera.h"
@@ -60,7 +61,12 @@ struct SegmentOptions {
     WalkOptions walk;
     ForestOptions forest;
     float walk_sure = 0.7f;       // walk+forest: the walk's label stands where its share reaches this
-    double graph_margin = 0.5;    // the solve's domain: the ROI columns widened by this fraction per side
+    double graph_margin = 0.5;    // the solve's domain: the largest ROI columns widened by this fraction per side
+    // The background's boundary is each object's ROI scaled by each of these (the graph is built
+    // once, over the largest); per object the answer of the smallest scale stands unless a larger
+    // one's boundary contrast (see boundary_contrast.h) is below graph_scale_ratio times its own.
+    std::vector<double> graph_scales{1.0, 2.0};
+    double graph_scale_ratio = 0.25;
     float unary = 1.0f;           // ptv3+graph: a node's unary strength, in units of its degree,
     float unary_confidence = 0.97f;  // where the network's most likely label has at least this probability
     // Most nodes one graph may hold (0: what the device's largest binding allows, about 1.6 M at
@@ -88,6 +94,11 @@ struct ObjectResult {
     // Gaussians the decoder gave this object with P(foreground) > 1/2, and that probability.
     std::vector<std::pair<uint32_t, float>> claims;
     std::string error;            // why the object failed (no labels); empty if it was segmented
+    // Graph decoders: the ROI scale whose answer stood (SegmentOptions::graph_scales), and that
+    // answer's boundary contrast (0 where only one scale was solved).
+    double graph_scale = 0, boundary_contrast = 0;
+    // Every scale solved, largest first: (scale, its answer's boundary contrast, Gaussians claimed).
+    std::vector<std::tuple<double, double, size_t>> scale_answers;
     // ptv3+graph: whether the network's probabilities were used (it agreed with the object's
     // clicks: P(foreground) > 1/2 at its positive clicks on average).
     bool network_trusted = false;
@@ -131,6 +142,7 @@ struct GraphDomain {
     std::vector<uint32_t> domain;  // node -> Gaussian
     std::vector<int32_t> node_of;  // Gaussian -> node, -1 outside
     std::vector<uint8_t> in_roi;   // per node: inside an object's ROI (else it seeds the background)
+    std::vector<uint8_t> in_base_roi;  // the same for the ROIs as the objects have them (scale 1)
     glm::vec3 lo{0.0f}, hi{0.0f};  // the nodes' bounding box
 };
 
@@ -151,6 +163,11 @@ public:
     double scale_from_cameras(const glm::dvec3& target) const;
 
 private:
+    // A walk's answer kept for the next solve's start: a column per label id in `ids` (0: background).
+    struct WarmStart {
+        LabelColumns x;
+        std::vector<int> ids;
+    };
     // Lifts, scales and encodes one object and runs the network over its ROI; InputError if it fails.
     void prepare(const data::ObjectPrompt& prompt, size_t index, const std::vector<Anchor>* lifted,
                  const SegmentOptions& o, ObjectResult& obj,
@@ -182,10 +199,11 @@ private:
                          SegmentResult& result);
     // The random walk (warm or coarse start), then the forest where the walk is unsure (walk+forest).
     void solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& objects, const std::vector<uint32_t>& domain,
-                    const std::vector<uint32_t>& nbr, WalkProblem& pr, SegmentResult& result);
+                    const std::vector<uint32_t>& nbr, WalkProblem& pr, WarmStart& warm, SegmentResult& result);
     // The same problem by widest paths: the seeds, plus the network's confident labels.
     void solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>& objects, const std::vector<uint32_t>& domain,
-                      const std::vector<uint32_t>& neighbours, const WalkProblem& problem, SegmentResult& result);
+                      const std::vector<uint32_t>& neighbours, const WalkProblem& problem, WarmStart& warm,
+                      SegmentResult& result);
     // Hands options.on_coarse the objects' claims from per-node labels (-1: none) over `domain`.
     void coarse_answer(const SegmentOptions& o, const std::vector<ObjectResult*>& objects,
                        const std::vector<uint32_t>& domain, const std::vector<int32_t>& label,
@@ -223,9 +241,9 @@ private:
     SeededForest forest_;
     std::vector<uint32_t> graph_domain_;  // the domain graph_ was built over, and with which options
     GraphOptions graph_built_with_;
-    // The last walk's answer (a column per label id in last_ids_, 0: background), for warm starts.
-    LabelColumns last_solution_;
-    std::vector<int> last_ids_;
+    // Per ROI scale, the last walk's answer (a column per label id in ids, 0: background), for
+    // warm starts: a scale starts from its own last answer, never from another scale's.
+    std::map<double, WarmStart> warm_;
 };
 
 }  // namespace pg::seg

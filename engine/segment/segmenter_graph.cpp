@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <unordered_set>
 
 #include "dataset/clicks/point_grid.h"
+#include "engine/segment/boundary_contrast.h"
 #include "engine/vk/context.h"
 
 namespace pg::seg {
@@ -105,10 +107,18 @@ float node_cell(const GraphDomain& d) {
     return std::cbrt(4.0f * size.x * size.y * size.z / float(d.domain.size()));
 }
 
-// The domain: every Gaussian within an ROI column widened by the margin. Between the ROI and
-// the margin lies the background's evidence of last resort: the object-scale rule's ROI.
+// Whether `p` lies in an ROI column scaled by `factor` about its centre.
+bool in_column(const RoiBox& r, const glm::dvec3& p, double factor) {
+    const glm::dvec3 rel = p - r.centre;
+    return std::abs(glm::dot(rel, r.length_axis)) <= factor * r.length / 2 &&
+           std::abs(glm::dot(rel, r.width_axis)) <= factor * r.width / 2;
+}
+
+// The domain: every Gaussian within an ROI column scaled by `reach` (the largest ROI scale) and
+// widened by the margin. Between the ROI and the margin lies the background's evidence of last
+// resort: the object-scale rule's ROI.
 GraphDomain graph_domain(const data::GaussianCloud& cloud, const std::vector<ObjectResult*>& objects,
-                         const std::vector<std::vector<uint32_t>>& rois, double margin) {
+                         const std::vector<std::vector<uint32_t>>& rois, double margin, double reach) {
     GraphDomain d;
     const size_t n = cloud.size();
     std::vector<int32_t>& node_of = d.node_of;
@@ -117,11 +127,7 @@ GraphDomain graph_domain(const data::GaussianCloud& cloud, const std::vector<Obj
     for (size_t i = 0; i < n; ++i) {
         glm::dvec3 mu(cloud.mean[i]);
         for (auto* obj : objects) {
-            const RoiBox& r = obj->roi;
-            glm::dvec3 rel = mu - r.centre;
-            double l = std::abs(glm::dot(rel, r.length_axis)) / (r.length / 2);
-            double w = std::abs(glm::dot(rel, r.width_axis)) / (r.width / 2);
-            if (l <= 1 + 2 * margin && w <= 1 + 2 * margin) {
+            if (in_column(obj->roi, mu, reach * (1 + 2 * margin))) {
                 domain.push_back(uint32_t(i));
                 break;
             }
@@ -149,11 +155,34 @@ GraphDomain graph_domain(const data::GaussianCloud& cloud, const std::vector<Obj
         std::sort(keyed.begin(), keyed.end());
         for (size_t s = 0; s < domain.size(); ++s) domain[s] = keyed[s].second, node_of[domain[s]] = int32_t(s);
     }
-    d.in_roi.assign(domain.size(), 0);
+    d.in_base_roi.assign(domain.size(), 0);
     for (auto& roi : rois)
         for (uint32_t g : roi)
-            if (node_of[g] >= 0) d.in_roi[size_t(node_of[g])] = 1;
+            if (node_of[g] >= 0) d.in_base_roi[size_t(node_of[g])] = 1;
+    d.in_roi = d.in_base_roi;
     return d;
+}
+
+// The nodes inside the objects' ROIs scaled by `factor` (scale 1: the ROIs as the encoder took them).
+void scale_rois(const data::GaussianCloud& cloud, const std::vector<ObjectResult*>& objects, double factor,
+                GraphDomain& d) {
+    d.in_roi = d.in_base_roi;
+    if (factor == 1.0) return;
+    for (size_t i = 0; i < d.domain.size(); ++i) {
+        const glm::dvec3 mu(cloud.mean[d.domain[i]]);
+        const bool inside = std::any_of(objects.begin(), objects.end(), [&](auto* obj) { return in_column(obj->roi, mu, factor); });
+        d.in_roi[i] = factor > 1.0 ? d.in_base_roi[i] || inside : d.in_base_roi[i] && inside;
+    }
+}
+
+// The ROI scales, largest first (at least one).
+std::vector<double> roi_scales(const SegmentOptions& o) {
+    std::vector<double> f;
+    for (double x : o.graph_scales)
+        if (x > 0 && std::find(f.begin(), f.end(), x) == f.end()) f.push_back(x);
+    if (f.empty()) f.push_back(1.0);
+    std::sort(f.begin(), f.end(), std::greater<>());
+    return f;
 }
 
 // walk+forest: the walk's label stands where its share reaches `sure`; from there (and the
@@ -166,9 +195,15 @@ struct NodeLabels {
     size_t free_nodes = 0;
 };
 NodeLabels walk_then_forest(SeededForest& forest, const KnnGraph& graph, std::vector<int32_t> seed, const WalkLabels& w,
-                            float sure, const ForestOptions& fo) {
+                            float sure, const ForestOptions& fo, const std::vector<uint8_t>* seeded = nullptr) {
     for (size_t i = 0; i < seed.size(); ++i)
         if (seed[i] < 0 && w.arg[i] >= 0 && w.share[i] >= sure) seed[i] = w.arg[i];
+    // `seeded`: per node whether its component holds a seed. No widest path reaches the others:
+    // they keep the walk's (bridged) label, or the background's, and are not the forest's to
+    // flood (many of them would send it to the GPU's rounds for nothing).
+    if (seeded)
+        for (size_t i = 0; i < seed.size(); ++i)
+            if (!(*seeded)[i] && seed[i] < 0) seed[i] = std::max(w.arg[i], 0);
     auto f = forest.solve(graph, seed, fo);
     NodeLabels out{std::move(f.label), std::vector<float>(seed.size(), 0.0f), f.rounds, f.free_nodes};
     for (size_t i = 0; i < seed.size(); ++i) {
@@ -256,7 +291,8 @@ LabelColumns Segmenter::coarse_start(const SegmentOptions& o, const std::vector<
 void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                             const std::vector<std::vector<uint32_t>>& rois,
                             const std::vector<std::vector<float>>& probabilities, SegmentResult& result) {
-    const GraphDomain d = graph_domain(cloud_, objects, rois, o.graph_margin);
+    const std::vector<double> scales = roi_scales(o);
+    GraphDomain d = graph_domain(cloud_, objects, rois, o.graph_margin, std::max(scales.front(), 1.0));
     uint64_t capacity = KnnGraph::max_nodes(ctx_, o.graph_options.k);
     if (o.graph_max_nodes) capacity = std::min(capacity, o.graph_max_nodes);
     if (d.domain.size() > capacity) return solve_decimated(o, objects, rois, probabilities, d, capacity, result);
@@ -270,24 +306,67 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         graph_.build(scene_, cloud_, d.domain, o.graph_options);
         graph_domain_ = d.domain;
         graph_built_with_ = o.graph_options;
-        last_solution_ = LabelColumns();
-        last_ids_.clear();
+        warm_.clear();
     }
     result.stage_ms["graph build"] += ms_since(t0);
 
-    t0 = Clock::now();
     const uint32_t nodes = uint32_t(d.domain.size());
-    WalkProblem pr = margin_problem(d, objects.size());
     const auto& nbr = graph_.host_neighbours();
-    seed_clicks(objects, d, &nbr, graph_.cell_side(), pr);
-    if (o.graph == GraphUse::Unary) {
-        const auto degree = vk::download_vector<float>(ctx_, graph_.degree_buffer(), nodes);
-        network_prior(o, objects, rois, probabilities, d, &degree, pr);
+    std::vector<float> gamma, prior;  // the network's prior: the same at every scale
+    std::vector<std::vector<std::pair<uint32_t, float>>> best(objects.size());
+    std::vector<double> best_contrast(objects.size(), 0.0);
+    for (size_t f = 0; f < scales.size(); ++f) {
+        // Each scale moves only the margin's background seeds; the solve warm-starts from the last.
+        stop_if_cancelled(o.cancel);
+        t0 = Clock::now();
+        scale_rois(cloud_, objects, scales[f], d);
+        WalkProblem pr = margin_problem(d, objects.size());
+        seed_clicks(objects, d, &nbr, graph_.cell_side(), pr);
+        if (o.graph == GraphUse::Unary) {
+            if (f == 0) {
+                const auto degree = vk::download_vector<float>(ctx_, graph_.degree_buffer(), nodes);
+                network_prior(o, objects, rois, probabilities, d, &degree, pr);
+                gamma = pr.gamma, prior = pr.prior;
+            } else {
+                pr.gamma = gamma, pr.prior = prior;
+            }
+        }
+        result.stage_ms["graph seeds"] += ms_since(t0);
+        for (auto* obj : objects) obj->claims.clear();
+        WarmStart& warm = warm_[scales[f]];
+        if (o.solver == GraphSolver::Forest) solve_forest(o, objects, d.domain, nbr, pr, warm, result);
+        else solve_walk(rest, objects, d.domain, nbr, pr, warm, result);
+        rest.on_coarse = nullptr;
+        result.stage_ms["graph solve"] += ms_since(t0);
+        if (scales.size() == 1) {
+            for (auto* obj : objects) obj->graph_scale = scales[f];
+            break;
+        }
+        // Per object, a smaller ROI's answer stands unless the larger one's boundary is far
+        // weaker: a background seed on the object cuts it through strong edges (a car longer
+        // than its ROI), while a larger ROI can let an object flood a surface it rests on.
+        t0 = Clock::now();
+        std::vector<int32_t> label(nodes, 0);
+        for (size_t j = 0; j < objects.size(); ++j)
+            for (auto [g, p] : objects[j]->claims) label[size_t(d.node_of[g])] = int32_t(j + 1);
+        const auto contrast = boundary_contrast(graph_.host_adjacency(), label, uint32_t(objects.size() + 1));
+        for (size_t j = 0; j < objects.size(); ++j) {
+            ObjectResult& obj = *objects[j];
+            obj.scale_answers.emplace_back(scales[f], contrast[j + 1], obj.claims.size());
+            if (obj.claims.empty()) continue;  // no answer never wins
+            if (f == 0 || best[j].empty() || !(best_contrast[j] < o.graph_scale_ratio * contrast[j + 1])) {
+                best[j] = std::move(obj.claims);
+                best_contrast[j] = contrast[j + 1];
+                obj.graph_scale = scales[f];
+            }
+        }
+        result.stage_ms["graph scales"] += ms_since(t0);
     }
-    result.stage_ms["graph seeds"] += ms_since(t0);
-    if (o.solver == GraphSolver::Forest) solve_forest(o, objects, d.domain, nbr, pr, result);
-    else solve_walk(rest, objects, d.domain, nbr, pr, result);
-    result.stage_ms["graph solve"] += ms_since(t0);
+    if (scales.size() > 1)
+        for (size_t j = 0; j < objects.size(); ++j) {
+            objects[j]->claims = std::move(best[j]);
+            objects[j]->boundary_contrast = best_contrast[j];
+        }
     if (result.graph) result.graph->domain = d.domain.size();
 }
 
@@ -303,8 +382,7 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
     if (early_coarse_answer(o, objects, d, result)) rest.on_coarse = nullptr;
     stop_if_cancelled(o.cancel);
     graph_domain_.clear();  // graph_ does not hold this domain: the next click builds again
-    last_solution_ = LabelColumns();
-    last_ids_.clear();
+    warm_.clear();
 
     auto t0 = Clock::now();
     const uint32_t nodes = uint32_t(d.domain.size());
@@ -502,17 +580,17 @@ void Segmenter::coarse_answer(const SegmentOptions& o, const std::vector<ObjectR
 
 void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                            const std::vector<uint32_t>& domain, const std::vector<uint32_t>& nbr, WalkProblem& pr,
-                           SegmentResult& result) {
+                           WarmStart& warm_start, SegmentResult& result) {
     const uint32_t nodes = uint32_t(domain.size()), labels = pr.labels;
     const size_t m = objects.size();
     // Warm start: a label solved before on this graph starts from its last solution.
     std::vector<int> ids(labels, 0);
     for (size_t j = 0; j < m; ++j) ids[j + 1] = objects[j]->id;
-    std::vector<int> last_column(labels, -1);  // per label: its column in last_solution_, -1 none
+    std::vector<int> last_column(labels, -1);  // per label: its column in warm.x, -1 none
     bool warm = false;
     for (uint32_t l = 0; l < labels; ++l) {
-        auto it = std::find(last_ids_.begin(), last_ids_.end(), ids[l]);
-        if (it != last_ids_.end()) last_column[l] = int(it - last_ids_.begin()), warm = true;
+        auto it = std::find(warm_start.ids.begin(), warm_start.ids.end(), ids[l]);
+        if (it != warm_start.ids.end()) last_column[l] = int(it - warm_start.ids.begin()), warm = true;
     }
     LabelColumns start;  // empty: the walk starts from the prior (or 0)
     if (warm) {
@@ -520,7 +598,7 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
         std::vector<float> values(labels);
         for (uint32_t i = 0; i < nodes; ++i) {
             for (uint32_t l = 0; l < labels; ++l)
-                values[l] = last_column[l] >= 0 ? last_solution_.at(i, uint32_t(last_column[l]))
+                values[l] = last_column[l] >= 0 ? warm_start.x.at(i, uint32_t(last_column[l]))
                                                 : (pr.prior.empty() ? 0.0f : pr.prior[size_t(i) * labels + l]);
             start.set_node(i, values.data());
         }
@@ -565,13 +643,13 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
     report.residual = solution.residual;
     // Each reached node's most likely label and its share of the probability.
     const WalkLabels w = start.most_likely(&reached);
-    last_solution_ = std::move(start);  // kept for the next click's warm start
-    last_ids_ = ids;
+    warm_start = {std::move(start), ids};  // kept for the next click's warm start
     if (o.solver == GraphSolver::WalkForest) {
         // Where the walk is sure it stands; the forest's widest paths settle the rest, without
         // the walk's pull towards the label with the most seeds.
         const auto t0 = Clock::now();
-        const NodeLabels settled = walk_then_forest(forest_, graph_, pr.seed, w, o.walk_sure, o.forest);
+        const auto seeded = seeded_components(root, pr);
+        const NodeLabels settled = walk_then_forest(forest_, graph_, pr.seed, w, o.walk_sure, o.forest, &seeded);
         result.stage_ms["graph forest"] += ms_since(t0);
         report.solver = GraphSolver::WalkForest;
         report.rounds = settled.rounds;
@@ -611,7 +689,25 @@ void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uin
     }
     const GraphOptions& go = o.graph_options;
     const double spacing = double(graph_.median_spacing()) * go.distance;
-    data::clicks::PointGrid grid(position, members, std::max(graph_.cell_side(), 1e-6f));
+    constexpr int kReach = 4;  // grid cells
+    const float cell = std::max(graph_.cell_side(), 1e-6f);
+    data::clicks::PointGrid grid(position, members, cell);
+    // Blocks of kReach cells that hold a seeded node: a node with none in the 27 blocks about its
+    // own has no bridge, found without a search (most of a far, unseeded piece's nodes).
+    auto block_of = [&](const glm::vec3& p) { return glm::ivec3(glm::floor(p / (float(kReach) * cell))); };
+    auto block_key = [](glm::ivec3 b) {
+        return (uint64_t(uint32_t(b.x) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(b.y) & 0x1FFFFF) << 21) | uint64_t(uint32_t(b.z) & 0x1FFFFF);
+    };
+    std::unordered_set<uint64_t> seeded_blocks;
+    for (uint32_t i : members) seeded_blocks.insert(block_key(block_of(position[i])));
+    auto near_seeded = [&](const glm::vec3& p) {
+        const glm::ivec3 b = block_of(p);
+        for (int z = -1; z <= 1; ++z)
+            for (int y = -1; y <= 1; ++y)
+                for (int x = -1; x <= 1; ++x)
+                    if (seeded_blocks.count(block_key(b + glm::ivec3(x, y, z)))) return true;
+        return false;
+    };
     // Each unseeded node's bridge (far end, weight), then component by component (nodes grouped
     // by root): memory stays one label vector, whatever the number of labels and components.
     std::vector<uint32_t> end(nodes, 0), unseeded;
@@ -619,7 +715,8 @@ void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uin
     for (uint32_t i = 0; i < nodes; ++i) {
         if (seeded[i]) continue;
         unseeded.push_back(i);
-        const double d2 = grid.nearest(position[i], 0xFFFFFFFFu, 4, &end[i]);
+        if (!near_seeded(position[i])) continue;
+        const double d2 = grid.nearest(position[i], 0xFFFFFFFFu, kReach, &end[i]);
         if (d2 < 0) continue;
         const glm::vec3 dc = colour[i] - colour[end[i]];
         bridge[i] = std::exp(-double(go.colour) * glm::dot(dc, dc) - d2 / (spacing * spacing)) *
@@ -648,13 +745,12 @@ void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uin
 
 void Segmenter::solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                              const std::vector<uint32_t>& domain, const std::vector<uint32_t>& nbr, const WalkProblem& pr,
-                             SegmentResult& result) {
+                             WarmStart& warm, SegmentResult& result) {
     // The network's confident labels (the walk's unary terms) seed the forest like clicks.
     const uint32_t nodes = uint32_t(domain.size()), labels = pr.labels;
     std::vector<int32_t> seed = forest_seeds(pr);
     auto forest = forest_.solve(graph_, seed, o.forest);
-    last_solution_ = LabelColumns();  // the walk's warm start does not apply to hard labels
-    last_ids_.clear();
+    warm = {};  // the walk's warm start does not apply to hard labels
 
     GraphReport report = graph_report(graph_, GraphSolver::Forest, seed);
     report.rounds = forest.rounds;
