@@ -29,6 +29,7 @@ struct BenchSegmentArgs {
     int lod = 0;
     int repeats = 5;
     bool json = false, coarse_answer = false;
+    std::vector<double> graph_scales{1.0, 2.0};
     DeviceOptions device;
 };
 
@@ -68,6 +69,7 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     seg::SegmentOptions o;
     o.up = data::up_from_cameras(cameras);
     o.graph = graph;
+    o.graph_scales = a.graph_scales;
     // The viewer's path: a cold solve first hands over the coarse graph's answer.
     auto t0 = std::chrono::steady_clock::now();
     double coarse_ms = -1, new_coarse_ms = -1;
@@ -191,6 +193,7 @@ void register_bench_segment(CLI::App& bench, std::function<void()>& run) {
     cmd->add_option("--mode", a->mode, "Label projection: occlusion or paper")->capture_default_str();
     cmd->add_option("--repeats", a->repeats, "Measured repetitions")->capture_default_str();
     cmd->add_option("--decoder", a->decoder, "ptv3 (the ground truth stands in for the network), graph or ptv3+graph (all objects' first clicks, solved together; repeats start warm)")->capture_default_str();
+    cmd->add_option("--graph-scales", a->graph_scales, "Graph decoders: the ROI scales solved (as segment --graph-scales)")->delimiter(',')->capture_default_str();
     cmd->add_option("--label-property", a->label_property, "Property the ground-truth decoder reads")
         ->capture_default_str();
     cmd->add_flag("--json", a->json, "Print JSON instead of tables");

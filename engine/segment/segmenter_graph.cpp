@@ -316,7 +316,8 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     std::vector<std::vector<std::pair<uint32_t, float>>> best(objects.size());
     std::vector<double> best_contrast(objects.size(), 0.0);
     for (size_t f = 0; f < scales.size(); ++f) {
-        // Each scale moves only the margin's background seeds; the solve warm-starts from the last.
+        // Each scale moves only the margin's background seeds; its walk starts from its own last answer
+        // (a further click on this graph), never from another scale's.
         stop_if_cancelled(o.cancel);
         t0 = Clock::now();
         scale_rois(cloud_, objects, scales[f], d);
