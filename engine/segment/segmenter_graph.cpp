@@ -351,9 +351,18 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         for (size_t j = 0; j < objects.size(); ++j)
             for (auto [g, p] : objects[j]->claims) label[size_t(d.node_of[g])] = int32_t(j + 1);
         const auto contrast = boundary_contrast(graph_.host_adjacency(), label, uint32_t(objects.size() + 1));
+        // Whether every answer lies within its ROI at the next smaller scale (all but 1 % of it):
+        // then that scale's margin could only cut the answers further (on the sample and the real
+        // guitar both scales gave every object the same answer), so it is not solved.
+        bool fits = f + 1 < scales.size();
         for (size_t j = 0; j < objects.size(); ++j) {
             ObjectResult& obj = *objects[j];
             obj.scale_answers.emplace_back(scales[f], contrast[j + 1], obj.claims.size());
+            if (fits) {
+                size_t outside = 0;
+                for (auto [g, p] : obj.claims) outside += !in_column(obj.roi, glm::dvec3(cloud_.mean[g]), scales[f + 1]);
+                fits = outside * 100 <= obj.claims.size();
+            }
             if (obj.claims.empty()) continue;  // no answer never wins
             if (f == 0 || best[j].empty() || !(best_contrast[j] < o.graph_scale_ratio * contrast[j + 1])) {
                 best[j] = std::move(obj.claims);
@@ -362,6 +371,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
             }
         }
         result.stage_ms["graph scales"] += ms_since(t0);
+        if (fits) break;
     }
     if (scales.size() > 1)
         for (size_t j = 0; j < objects.size(); ++j) {

@@ -51,7 +51,7 @@ TEST_CASE("boundary contrast: a cut along a weak edge scores its weakness, one t
     CHECK(seg::boundary_contrast(g, label, 4)[2] == Approx(1.0));
 }
 
-TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at the larger ROI scale, and says so") {
+TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at the larger ROI scale, and says so; one within it is solved once") {
     // An orange rod 1.2 long held 0.05 above a grey floor (on supports out of the picture),
     // clicked 0.1 from one end. The ROI at scale 1
     // (1.25 wide about the click) ends halfway along the rod: the margin's background seeds lie
@@ -108,4 +108,13 @@ TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at t
     CHECK(rod_iou(whole) > 0.95);
     CHECK(whole.objects[0].graph_scale == 2.0);
     CHECK(whole.objects[0].boundary_contrast < 0.1);
+    REQUIRE(whole.objects[0].scale_answers.size() == 2);  // the answer at 2 reached past the ROI at 1
+    // Clicked at its middle, the rod lies within the ROI at scale 1: the answer at scale 2 fits
+    // there, a smaller margin could only cut it, so scale 1 is not solved.
+    p.objects[0].clicks[0].point = glm::dvec3(0.0, -0.2, 0.0);
+    const auto middle = segmenter.segment(p, o);
+    REQUIRE(middle.failed() == 0);
+    CHECK(rod_iou(middle) > 0.95);
+    CHECK(middle.objects[0].scale_answers.size() == 1);
+    CHECK(middle.objects[0].graph_scale == 2.0);
 }
