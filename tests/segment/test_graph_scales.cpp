@@ -51,7 +51,7 @@ TEST_CASE("boundary contrast: a cut along a weak edge scores its weakness, one t
     CHECK(seg::boundary_contrast(g, label, 4)[2] == Approx(1.0));
 }
 
-TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at the larger ROI scale, and says so; one within it is solved once") {
+TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at the larger ROI scale and says so, one within it is solved once") {
     // An orange rod 1.2 long held 0.05 above a grey floor (on supports out of the picture),
     // clicked 0.1 from one end. The ROI at scale 1
     // (1.25 wide about the click) ends halfway along the rod: the margin's background seeds lie
