@@ -45,6 +45,7 @@ struct ClicksArgs {
     int max_clicks = 20;
     size_t objects = 0;  // 0: every object
     double sigma = 0, scale = 0;
+    std::vector<double> graph_scales{1.0, 2.0};
     uint64_t seed = 1;
     DeviceOptions device;
 };
@@ -140,6 +141,7 @@ void run_clicks(const ClicksArgs& a) {
         throw data::InputError("--out", "is the suite folder; predictions go to a folder of their own");
     seg::SegmentOptions o;
     o.graph = graph_use;
+    o.graph_scales = a.graph_scales;
     o.solver = solver;
     o.lift = lift;
     o.sigma = a.sigma;
@@ -257,6 +259,7 @@ void register_clicks(CLI::App& app, std::function<void()>& run) {
         ->capture_default_str();
     cmd->add_option("--lift", a->lift, "Where a click in a view lands: surface or tau (see segment)")->capture_default_str();
     cmd->add_option("--graph-solver", a->solver, "Graph decoders: walk, forest or walk+forest (see segment)")->capture_default_str();
+    cmd->add_option("--graph-scales", a->graph_scales, "Graph decoders: the ROI scales solved (see segment)")->delimiter(',')->capture_default_str();
     cmd->add_option("--out", a->out, "Prediction folder: <scene>/clicks.json is written")->required();
     cmd->add_option("--split", a->split, "Scenes to run: test (default), train or all")
         ->check(CLI::IsMember({"test", "train", "all"}));
