@@ -179,8 +179,7 @@ void run_segment(const SegmentArgs& args) {
         nlohmann::json jo{{"id", obj.id},          {"name", obj.name},       {"roi_gaussians", obj.roi_gaussians},
                           {"batches", obj.batches}, {"gaussians", obj.labelled}, {"sigma", obj.sigma},
                           {"roi", {obj.roi.length, obj.roi.width}}};
-        if (graph_use != seg::GraphUse::None && obj.error.empty())
-        {
+        if (graph_use != seg::GraphUse::None && obj.error.empty()) {
             jo["graph_roi_scale"] = obj.graph_scale, jo["boundary_contrast"] = obj.boundary_contrast;
             for (auto [scale, contrast, claimed] : obj.scale_answers)
                 jo["roi_scales"].push_back({{"scale", scale}, {"boundary_contrast", contrast}, {"claimed", claimed}});

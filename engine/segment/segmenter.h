@@ -65,6 +65,7 @@ struct SegmentOptions {
     // The background's boundary is each object's ROI scaled by each of these (the graph is built
     // once, over the largest); per object the answer of the smallest scale stands unless a larger
     // one's boundary contrast (see boundary_contrast.h) is below graph_scale_ratio times its own.
+    // Largest first; a smaller scale whose ROIs hold every answer already found is not solved.
     std::vector<double> graph_scales{1.0, 2.0};
     double graph_scale_ratio = 0.25;
     float unary = 1.0f;           // ptv3+graph: a node's unary strength, in units of its degree,
@@ -95,7 +96,7 @@ struct ObjectResult {
     std::vector<std::pair<uint32_t, float>> claims;
     std::string error;            // why the object failed (no labels); empty if it was segmented
     // Graph decoders: the ROI scale whose answer stood (SegmentOptions::graph_scales), and that
-    // answer's boundary contrast (0 where only one scale was solved).
+    // answer's boundary contrast (0 where graph_scales holds a single scale).
     double graph_scale = 0, boundary_contrast = 0;
     // Every scale solved, largest first: (scale, its answer's boundary contrast, Gaussians claimed).
     std::vector<std::tuple<double, double, size_t>> scale_answers;
@@ -224,9 +225,11 @@ private:
     // A starting point for the fine solve: each node starts from its nearest coarse node's answer.
     LabelColumns coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine);
     // After a walk: each graph component that no seed or prior reaches takes the bridge-weighted
-    // mean of the answers at its nodes' nearest seeded-component nodes (`root`: component roots).
+    // mean of the answers at its nodes' nearest seeded-component nodes (`root`: component roots;
+    // `seeded`: per node, whether its component holds a seed or prior).
     void bridge_components(const SegmentOptions& o, const std::vector<uint32_t>& domain,
-                           const std::vector<uint32_t>& root, const WalkProblem& pr, LabelColumns& x) const;
+                           const std::vector<uint32_t>& root, const std::vector<uint8_t>& seeded,
+                           const WalkProblem& pr, LabelColumns& x) const;
     Anchor anchor_for(const data::PromptClick& click, const SegmentOptions& o, const std::string& what);
 
     vk::Context& ctx_;

@@ -639,7 +639,8 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
     auto solution = walker_.solve(graph_, pr, start, o.walk);  // the start becomes the answer
     result.stage_ms["graph walk"] += ms_since(t0);
     t0 = Clock::now();
-    bridge_components(o, domain, root, pr, start);
+    const auto seeded = seeded_components(root, pr);
+    bridge_components(o, domain, root, seeded, pr, start);
     result.stage_ms["graph bridges"] += ms_since(t0);
     // A component with no seed, prior or bridge within reach has no answer: it stays unlabelled
     // and is counted.
@@ -659,7 +660,6 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
         // Where the walk is sure it stands; the forest's widest paths settle the rest, without
         // the walk's pull towards the label with the most seeds.
         const auto t0 = Clock::now();
-        const auto seeded = seeded_components(root, pr);
         const NodeLabels settled = walk_then_forest(forest_, graph_, pr.seed, w, o.walk_sure, o.forest, &seeded);
         result.stage_ms["graph forest"] += ms_since(t0);
         report.solver = GraphSolver::WalkForest;
@@ -676,7 +676,8 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
 }
 
 void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uint32_t>& domain,
-                                  const std::vector<uint32_t>& root, const WalkProblem& pr, LabelColumns& x) const {
+                                  const std::vector<uint32_t>& root, const std::vector<uint8_t>& seeded,
+                                  const WalkProblem& pr, LabelColumns& x) const {
     // A component that no seed or prior reaches is a singular system the walk leaves as it
     // started. Each of its nodes is bridged to its nearest node in a seeded component (within 4
     // grid cells, about 10 spacings: past that the affinity is below e^-100), the bridge weighing
@@ -684,7 +685,6 @@ void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uin
     // component takes the bridge-weighted mean of the answers at the far ends, as the walk would
     // if those bridges were its only edges out. Bridges that all vanish leave it unlabelled.
     const uint32_t nodes = uint32_t(domain.size()), labels = pr.labels;
-    const auto seeded = seeded_components(root, pr);
     std::vector<uint32_t> members;
     for (uint32_t i = 0; i < nodes; ++i)
         if (seeded[i]) members.push_back(i);
