@@ -61,9 +61,7 @@ void check_interactive_model(const std::string& path) {
     } catch (const nn::FormatError& e) {
         throw data::InputError("--model", e.what());
     }
-    if (c.in_channels != 2 || c.num_classes != 2)
-        throw data::InputError(path, "is not an interactive model (needs 2 input channels and 2 classes; has " +
-                                         std::to_string(c.in_channels) + " and " + std::to_string(c.num_classes) + ")");
+    check_interactive_config(c, path);
 }
 
 // The scenes to run: the split, narrowed to --scenes (which must name scenes of that split).
@@ -177,6 +175,7 @@ void run_clicks(const ClicksArgs& a) {
         o.up = resolve_up(a.up, cameras, cloud);
 
         render::GpuScene gpu_scene(ctx, cloud);
+        if (ptv3) ptv3->set_scene(&cloud);
         std::unique_ptr<seg::Decoder> gt_decoder;
         if (network && ground_truth) gt_decoder = std::make_unique<seg::GroundTruthDecoder>(*labels);
         seg::Decoder* decoder = !network ? nullptr : ground_truth ? gt_decoder.get() : static_cast<seg::Decoder*>(ptv3.get());

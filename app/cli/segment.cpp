@@ -143,7 +143,7 @@ void run_segment(const SegmentArgs& args) {
     render::GpuScene scene = upload_scene(ctx, cloud, a.device);
     std::unique_ptr<seg::Decoder> decoder;
     if (network && ground_truth) decoder = std::make_unique<seg::GroundTruthDecoder>(*gt);
-    else if (network) decoder = std::make_unique<Ptv3Decoder>(ctx, a.model);
+    else if (network) decoder = std::make_unique<Ptv3Decoder>(ctx, a.model, &cloud);
     auto segmenter = decoder ? std::make_unique<seg::Segmenter>(ctx, cloud, scene, cameras, *decoder)
                              : std::make_unique<seg::Segmenter>(ctx, cloud, scene, cameras);
     seg::SegmentResult result;

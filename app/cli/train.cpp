@@ -3,9 +3,11 @@
 // batch, click weights, augmentation) or, on semantic suites, the semantic one (tile columns,
 // appearance features, classes). The run itself is nn/train/training_run.h; this reads the
 // options, loads the scenes, sets up the trainer (fresh or from --resume) and prints progress.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 
 #include <unistd.h>
 
@@ -30,7 +32,7 @@ namespace {
 
 struct TrainArgs {
     std::vector<std::string> data, val;
-    std::string config = "tiny", out, resume, task = "auto";
+    std::string config = "tiny", out, resume, task = "auto", features = "none";
     int points = 8192;
     double tile = 64.0, grid = 0.01;
     double weight_decay = 0.05, drop_path = 0.1, lovasz = 0;
@@ -39,12 +41,32 @@ struct TrainArgs {
 };
 
 std::vector<data::train::TrainScene> load_scenes(const std::vector<std::string>& dirs, const std::string& split,
-                                                 const char* what) {
+                                                 const char* what, const std::vector<std::string>& feature_groups) {
     std::vector<std::filesystem::path> paths(dirs.begin(), dirs.end());
     std::vector<data::train::TrainScene> scenes;
-    for (const auto& p : data::train::find_train_scenes(paths, split)) scenes.push_back(data::train::load_train_scene(p));
+    for (const auto& p : data::train::find_train_scenes(paths, split))
+        scenes.push_back(data::train::load_train_scene(p, std::nullopt, feature_groups));
     if (scenes.empty()) throw data::InputError(what, "holds no " + split + " scenes");
     return scenes;
+}
+
+// --features: none, all, or a comma-separated list of semantic/gaussian_features.h groups.
+std::vector<std::string> feature_groups_arg(const std::string& arg) {
+    if (arg == "none") return {};
+    if (arg == "all") return data::semantic::all_feature_groups();
+    std::vector<std::string> groups;
+    size_t start = 0;
+    while (start <= arg.size()) {
+        const size_t comma = std::min(arg.find(',', start), arg.size());
+        groups.push_back(arg.substr(start, comma - start));
+        start = comma + 1;
+    }
+    try {
+        data::semantic::feature_channels(groups);
+    } catch (const std::invalid_argument& e) {
+        throw data::InputError("--features", e.what());
+    }
+    return groups;
 }
 
 // The task the data asks for: semantic when every --data path is a semantic suite.
@@ -139,13 +161,15 @@ void run_train(const TrainArgs& a) {
             config.tile_size = a.tile;
             config.grid_size = a.grid;
         } else {
-            config.in_channels = 2;
+            config.features = feature_groups_arg(a.features);
+            config.in_channels = 2 + data::semantic::feature_channels(config.features);
             config.num_classes = 2;
             config.input_frame = "roi";
         }
     }
     const bool fits = semantic ? config.semantic()
-                               : !config.semantic() && config.input_frame == "roi" && config.in_channels == 2 && config.num_classes == 2;
+                               : !config.semantic() && config.input_frame == "roi" && config.num_classes == 2 &&
+                                     config.in_channels == 2 + data::semantic::feature_channels(config.features);
     if (!fits)
         throw data::InputError("--resume", semantic ? "is not a semantic model checkpoint" : "is not an interactive model checkpoint");
 
@@ -168,9 +192,11 @@ void run_train(const TrainArgs& a) {
     } else {
         data::train::SampleOptions so;
         so.max_points = uint32_t(a.points);
-        drawer = std::make_unique<data::train::SampleDrawer>(load_scenes(a.data, "train", "--data"), so);
+        so.features = config.features;
+        so.voxel = config.grid_size;
+        drawer = std::make_unique<data::train::SampleDrawer>(load_scenes(a.data, "train", "--data", so.features), so);
         if (!a.val.empty())
-            val_drawer = std::make_unique<data::train::SampleDrawer>(load_scenes(a.val, "test", "--val"),
+            val_drawer = std::make_unique<data::train::SampleDrawer>(load_scenes(a.val, "test", "--val", so.features),
                                                                      so.without_augmentation());
         std::fprintf(stderr, "training on %zu scene(s), %zu objects; validation on %zu scene(s)\n",
                      drawer->scenes().size(), drawer->object_count(), val_drawer ? val_drawer->scenes().size() : size_t(0));
@@ -237,6 +263,10 @@ void register_train(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--tile", a->tile, "Semantic: tile side in scene units (the scene is covered by columns this wide)")
         ->capture_default_str();
     cmd->add_option("--grid", a->grid, "Semantic: voxel side in tiles")->capture_default_str();
+    cmd->add_option("--features", a->features,
+                    "Interactive: per-Gaussian inputs after the click weights: none, all, or groups rgb,opacity,log_scale,"
+                    "verticality (a resumed checkpoint keeps its own)")
+        ->capture_default_str();
     cmd->add_option("--val", a->val, "Validation scenes: suite folders (their test split), scene folders or PLYs");
     cmd->add_option("--config", a->config, "tiny, small, paper, or a model file whose config to use")->capture_default_str();
     cmd->add_option("--out", a->out, "Model file to write (.safetensors); OUT.ckpt.safetensors and OUT.log.jsonl beside it")

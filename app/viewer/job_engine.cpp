@@ -47,7 +47,7 @@ seg::Segmenter& JobEngine::segmenter(const std::string& network) {
             if (!labels) throw data::InputError(scene_.scene_path, "has no 'instance' property for the ground-truth decoder");
             d = std::make_unique<seg::GroundTruthDecoder>(*labels);
         } else {
-            d = std::make_unique<app::Ptv3Decoder>(ctx_, network);
+            d = std::make_unique<app::Ptv3Decoder>(ctx_, network, &scene_.cloud);
         }
         decoders_[network] = std::move(d);
         s = std::make_unique<seg::Segmenter>(ctx_, scene_.cloud, gpu_scene_, scene_.cameras, *decoders_[network]);

@@ -39,16 +39,17 @@ int feature_channels(const std::vector<std::string>& groups) {
     return c;
 }
 
-std::vector<float> gaussian_features(const GaussianCloud& cloud, const std::vector<std::string>& groups, glm::dvec3 up,
-                                     double unit) {
+std::vector<float> raw_gaussian_features(const GaussianCloud& cloud, std::span<const uint32_t> indices,
+                                         const std::vector<std::string>& groups, glm::dvec3 up) {
     const int channels = feature_channels(groups);
-    const size_t n = cloud.size();
+    const size_t n = indices.empty() ? cloud.size() : indices.size();
     const glm::vec3 u = glm::vec3(glm::normalize(up));
-    const float log_unit = float(std::log(unit));
     const int coeffs = cloud.coeffs();
     std::vector<float> out(n * size_t(channels));
-    for (size_t i = 0; i < n; ++i) {
-        float* f = &out[i * size_t(channels)];
+    for (size_t k = 0; k < n; ++k) {
+        const size_t i = indices.empty() ? k : size_t(indices[k]);
+        if (i >= cloud.size()) throw std::out_of_range("raw_gaussian_features: index past the cloud");
+        float* f = &out[k * size_t(channels)];
         for (const auto& g : groups) {
             if (g == "rgb") {
                 for (int c = 0; c < 3; ++c) {
@@ -60,10 +61,9 @@ std::vector<float> gaussian_features(const GaussianCloud& cloud, const std::vect
             } else if (g == "log_scale") {
                 glm::vec3 s = cloud.log_scale[i];
                 // 2DGS surfels' missing axis is kFlatLogScale: far below any real size; keep it finite.
-                for (int a = 0; a < 3; ++a) s[a] = std::max(s[a], -20.0f) - log_unit;
-                std::array<float, 3> v{s.x, s.y, s.z};
+                std::array<float, 3> v{std::max(s.x, -20.0f), std::max(s.y, -20.0f), std::max(s.z, -20.0f)};
                 std::sort(v.begin(), v.end(), std::greater<>());
-                for (float x : v) *f++ = std::clamp(x, -12.0f, 12.0f);
+                for (float x : v) *f++ = x;
             } else {
                 const glm::vec3 s = cloud.log_scale[i];
                 const int flat = s.x <= s.y && s.x <= s.z ? 0 : (s.y <= s.z ? 1 : 2);
@@ -71,6 +71,37 @@ std::vector<float> gaussian_features(const GaussianCloud& cloud, const std::vect
             }
         }
     }
+    return out;
+}
+
+void finish_gaussian_features(std::span<float> rows, const std::vector<std::string>& groups, double unit) {
+    const size_t channels = size_t(feature_channels(groups));
+    size_t offset = 0;
+    const float log_unit = float(std::log(unit));
+    for (const auto& g : groups) {
+        if (g == "log_scale")
+            for (size_t r = 0; r + channels <= rows.size(); r += channels)
+                for (size_t a = 0; a < 3; ++a) {
+                    float& x = rows[r + offset + a];
+                    x = std::clamp(x - log_unit, -12.0f, 12.0f);
+                }
+        offset += size_t(group_channels(g));
+    }
+}
+
+int group_offset(const std::vector<std::string>& groups, const std::string& group) {
+    int offset = 0;
+    for (const auto& g : groups) {
+        if (g == group) return offset;
+        offset += group_channels(g);
+    }
+    return -1;
+}
+
+std::vector<float> gaussian_features(const GaussianCloud& cloud, const std::vector<std::string>& groups, glm::dvec3 up,
+                                     double unit) {
+    std::vector<float> out = raw_gaussian_features(cloud, {}, groups, up);
+    finish_gaussian_features(out, groups, unit);
     return out;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 // Per-Gaussian appearance and shape features, for models that see more than click maps (the
-// semantic model). A model's config lists the groups it was trained on, by these names; training
+// semantic model, and interactive models whose config lists feature groups). A model's config lists the groups it was trained on, by these names; training
 // and inference both compute them here, so they cannot drift apart.
 //   rgb          3  colour of the SH DC term, clamped to [0, 1]
 //   opacity      1  sigmoid of the logit
@@ -9,6 +9,8 @@
 //   verticality  1  |n . up| for n the flattest axis (1: a horizontal surface, 0: a wall); the
 //                   sign of a surfel's normal is arbitrary, and only the angle to up survives the
 //                   rotations about up that training applies
+#include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -27,5 +29,16 @@ int feature_channels(const std::vector<std::string>& groups);
 // [n, feature_channels(groups)] row-major, in the order of `groups`. `up` need not be unit.
 std::vector<float> gaussian_features(const GaussianCloud& cloud, const std::vector<std::string>& groups, glm::dvec3 up,
                                      double unit);
+
+// The same in two steps, so a caller can keep rows and apply the unit later (an interactive
+// model's unit is its voxel in the frame of each click): rows of `indices` (every Gaussian when
+// empty) with log scales as they are, then the unit and the clamps in place. gaussian_features is
+// exactly the two together. std::out_of_range for an index past the cloud.
+std::vector<float> raw_gaussian_features(const GaussianCloud& cloud, std::span<const uint32_t> indices,
+                                         const std::vector<std::string>& groups, glm::dvec3 up);
+void finish_gaussian_features(std::span<float> rows, const std::vector<std::string>& groups, double unit);
+
+// The first channel of `group` within rows of `groups`; -1 when absent.
+int group_offset(const std::vector<std::string>& groups, const std::string& group);
 
 }  // namespace pg::data::semantic

@@ -9,6 +9,7 @@
 #include "dataset/clicks/click3d.h"
 #include "dataset/clicks/point_grid.h"
 #include "dataset/error.h"
+#include "dataset/semantic/gaussian_features.h"
 #include "dataset/train/first_click.h"
 
 namespace pg::data::train {
@@ -23,6 +24,9 @@ void check_options(const SampleOptions& o) {
     if (!(o.camera_scale_factor > 0)) fail("camera_scale_factor must be positive");
     if (!(o.scale_min > 0 && o.scale_min <= o.scale_max)) fail("need 0 < scale_min <= scale_max");
     if (!(o.jitter_sigma >= 0 && o.jitter_clip >= 0)) fail("jitter sigma and clip must be non-negative");
+    if (!(o.voxel > 0)) fail("voxel must be positive");
+    if (!(o.colour_gain >= 0 && o.colour_gain < 1 && o.colour_shift >= 0)) fail("colour gain must be in [0, 1), shift >= 0");
+    semantic::feature_channels(o.features);  // names an unknown group
 }
 
 // Size of the horizontal bounding box's larger side.
@@ -46,6 +50,8 @@ SampleDrawer::SampleDrawer(std::vector<TrainScene> scenes, SampleOptions options
     check_options(options_);
     for (size_t s = 0; s < scenes_.size(); ++s) {
         const TrainScene& scene = scenes_[s];
+        if (scene.feature_groups != options_.features)
+            throw std::invalid_argument("SampleDrawer: scene '" + scene.name + "' was loaded with other feature groups");
         if (scene.instance.size() != scene.positions.size())
             throw std::invalid_argument("SampleDrawer: scene '" + scene.name + "' has " +
                                         std::to_string(scene.instance.size()) + " labels for " +
@@ -140,9 +146,48 @@ Sample SampleDrawer::draw(Rng& rng) const {
         s.labels.push_back(scene.instance[roi[k]] == obj.id ? 1 : 0);
     }
     s.clicks.push_back({s.frame.map(anchor), true, clicked});
-    s.feat = click_weights(s.position, s.clicks, s.sigma);
+    if (!options_.features.empty()) {
+        const size_t c = size_t(semantic::feature_channels(options_.features));
+        s.appearance.resize(s.size() * c);
+        for (size_t i = 0; i < s.size(); ++i)
+            std::copy_n(&scene.features[size_t(s.gaussians[i]) * c], c, &s.appearance[i * c]);
+        semantic::finish_gaussian_features(s.appearance, options_.features, options_.voxel * s.frame.scale);
+        if (options_.colour) augment_colour(s, rng);
+    }
+    compose_features(s);
     augment(s, rng);
     return s;
+}
+
+void SampleDrawer::compose_features(Sample& s) const {
+    const std::vector<float> w = click_weights(s.position, s.clicks, s.sigma);
+    if (s.appearance.empty()) {
+        s.feat = w;
+        return;
+    }
+    const size_t c = s.appearance.size() / s.size(), row = 2 + c;
+    s.feat.resize(s.size() * row);
+    for (size_t i = 0; i < s.size(); ++i) {
+        s.feat[i * row] = w[2 * i];
+        s.feat[i * row + 1] = w[2 * i + 1];
+        std::copy_n(&s.appearance[i * c], c, &s.feat[i * row + 2]);
+    }
+}
+
+void SampleDrawer::augment_colour(Sample& s, Rng& rng) const {
+    const int rgb = semantic::group_offset(options_.features, "rgb");
+    if (rgb < 0) return;
+    int perm[3] = {0, 1, 2};
+    for (int i = 2; i > 0; --i) std::swap(perm[i], perm[rng.below(i + 1)]);
+    float gain[3];
+    for (float& g : gain) g = float(rng.uniform(1.0 - options_.colour_gain, 1.0 + options_.colour_gain));
+    const float shift = float(rng.uniform(-options_.colour_shift, options_.colour_shift));
+    const size_t c = s.appearance.size() / s.size();
+    for (size_t i = 0; i < s.size(); ++i) {
+        float* p = &s.appearance[i * c + size_t(rgb)];
+        const float in[3] = {p[0], p[1], p[2]};
+        for (int k = 0; k < 3; ++k) p[k] = std::clamp(gain[k] * in[perm[k]] + shift, 0.0f, 1.0f);
+    }
 }
 
 void SampleDrawer::augment(Sample& s, Rng& rng) const {
@@ -182,7 +227,7 @@ bool SampleDrawer::add_click(Sample& s, std::span<const uint8_t> prediction) con
     const auto click = clicker.next_click(gt, prediction);
     if (!click) return false;
     s.clicks.push_back({s.position[click->index], click->positive, s.gaussians[click->index]});
-    s.feat = click_weights(s.position, s.clicks, s.sigma);
+    compose_features(s);
     return true;
 }
 

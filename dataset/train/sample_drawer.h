@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -36,11 +37,21 @@ struct SampleOptions {
     bool flip = true;                         // x and y each negated with probability 1/2
     bool jitter = true;                       // per coordinate, normal, clipped
     double jitter_sigma = 0.002, jitter_clip = 0.01;  // frame units
+    // Appearance features after the click weights (semantic/gaussian_features.h groups; the
+    // scenes must be loaded with the same groups), their unit the model's voxel: `voxel` frame
+    // units (the config's grid size) times the frame's scale, as Ptv3Decoder computes them.
+    std::vector<std::string> features;
+    double voxel = 0.02;
+    // Colour augmentation of the rgb group: a random permutation of the channels, then per
+    // channel a gain in [1 - colour_gain, 1 + colour_gain] and a common offset of at most
+    // colour_shift, clamped to [0, 1]; the model learns colour contrast, not a palette.
+    bool colour = true;
+    double colour_gain = 0.2, colour_shift = 0.1;
 
     // The same options with every augmentation off (coord = the frame positions).
     SampleOptions without_augmentation() const {
         SampleOptions o = *this;
-        o.rotate = o.scale = o.flip = o.jitter = false;
+        o.rotate = o.scale = o.flip = o.jitter = o.colour = false;
         return o;
     }
 };
@@ -48,7 +59,8 @@ struct SampleOptions {
 struct Sample {
     // Per point (n of them), the scene's Gaussians in ascending index order.
     std::vector<float> coord;          // n x 3: augmented network coordinates, the model's input
-    std::vector<float> feat;           // n x 2: max positive, max negative click weight
+    std::vector<float> feat;           // n x (2 + C): max positive and negative click weight, appearance
+    std::vector<float> appearance;     // n x C: the feature groups' rows (C = 0 without them)
     std::vector<int32_t> labels;       // n: 1 = the object's Gaussian, 0 = other
     std::vector<glm::vec3> position;   // n: frame positions before augmentation
     std::vector<uint32_t> gaussians;   // n: scene indices
@@ -99,6 +111,8 @@ private:
     };
     double scale_for(const TrainScene& scene, const Object& object, glm::dvec3 anchor) const;
     void augment(Sample& s, Rng& rng) const;
+    void augment_colour(Sample& s, Rng& rng) const;
+    void compose_features(Sample& s) const;
 
     std::vector<TrainScene> scenes_;
     SampleOptions options_;

@@ -7,6 +7,7 @@
 #include "dataset/eval/suite_info.h"
 #include "dataset/formats/camera_io.h"
 #include "dataset/formats/scene_io.h"
+#include "dataset/semantic/gaussian_features.h"
 #include "dataset/up_axis.h"
 
 namespace pg::data::train {
@@ -48,7 +49,8 @@ glm::dvec3 scene_up(const std::vector<Camera>& cameras, const GaussianCloud& clo
     }
 }
 
-TrainScene load_train_scene(const fs::path& path, std::optional<glm::dvec3> up) {
+TrainScene load_train_scene(const fs::path& path, std::optional<glm::dvec3> up,
+                            const std::vector<std::string>& feature_groups) {
     const SceneFiles files = read_scene_files(path);
     TrainScene s;
     s.source = files.ply;
@@ -66,6 +68,10 @@ TrainScene load_train_scene(const fs::path& path, std::optional<glm::dvec3> up) 
         s.up = glm::normalize(*up);
     } else {
         s.up = scene_up(files.cameras, cloud);
+    }
+    if (!feature_groups.empty()) {
+        s.feature_groups = feature_groups;
+        s.features = semantic::raw_gaussian_features(cloud, {}, feature_groups, s.up);
     }
     return s;
 }

@@ -22,6 +22,10 @@ struct TrainScene {
     std::vector<int32_t> instance;             // per Gaussian; 0 = background, > 0 = an object
     std::vector<glm::dvec3> camera_positions;  // empty for a bare PLY
     glm::dvec3 up{0, -1, 0};                   // unit
+    // Raw per-Gaussian rows of the feature groups an interactive model reads (semantic/
+    // gaussian_features.h, before its unit): empty unless asked for at load.
+    std::vector<std::string> feature_groups;
+    std::vector<float> features;
 
     size_t size() const { return positions.size(); }
     bool has_cameras() const { return !camera_positions.empty(); }
@@ -31,8 +35,9 @@ struct TrainScene {
 // load_cameras finds them) or a bare PLY. The PLY needs an integer "instance" property with
 // at least one object (id > 0). Up: `up` if given, else the cameras' mean up, else (no
 // cameras, or cameras too disagreeing to say) a ground-plane fit. Throws InputError naming
-// the path and the reason.
-TrainScene load_train_scene(const std::filesystem::path& dir_or_ply, std::optional<glm::dvec3> up = std::nullopt);
+// the path and the reason. `feature_groups`: the rows to keep for a model that reads them.
+TrainScene load_train_scene(const std::filesystem::path& dir_or_ply, std::optional<glm::dvec3> up = std::nullopt,
+                            const std::vector<std::string>& feature_groups = {});
 
 // What the training tasks share when they read a scene: a scene folder's scene.ply (or the PLY
 // itself), its name (the folder's, or the PLY's stem), the folder's cameras (none for a bare PLY

@@ -132,6 +132,28 @@ TEST_CASE("train --lovasz adds the Lovasz loss and logs it") {
     CHECK(lines == 2);
 }
 
+TEST_CASE("train --features writes a model that reads the feature groups, and segment runs it") {
+    const fs::path suite = train_suite();
+    const fs::path dir = pg::test::scratch("cli-train-features");
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    Run r = run(common_args(suite) + " --steps 2 --features rgb,verticality --out " + (dir / "m.safetensors").string());
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    const json config = json::parse(safetensors_metadata(dir / "m.safetensors")["config"].get<std::string>());
+    CHECK(config["in_channels"] == 6);  // click weights, rgb, verticality
+    CHECK(config["features"] == json::array({"rgb", "verticality"}));
+    const fs::path scene = suite / "desk_000";
+    Run prompts = run("prompts " + scene.string() + " --out " + (dir / "prompts.json").string());
+    REQUIRE(prompts.code == 0);
+    Run seg = run("segment " + (scene / "scene.ply").string() + " --cameras " + (scene / "cameras.json").string() +
+                  " --prompts " + (dir / "prompts.json").string() + " --model " + (dir / "m.safetensors").string() +
+                  " --decoder ptv3 --views none --out " + (dir / "seg").string());
+    INFO(seg.out);
+    CHECK(seg.code == 0);
+    CHECK(fs::exists(dir / "seg" / "report.json"));
+}
+
 TEST_CASE("train: bad arguments are one clear error and nothing is written") {
     const fs::path suite = train_suite();
     const fs::path dir = pg::test::scratch("cli-train-bad");
@@ -146,6 +168,7 @@ TEST_CASE("train: bad arguments are one clear error and nothing is written") {
         {common_args(suite) + " --config huge" + out, "--config"},
         {common_args(suite) + " --steps 0" + out, "--steps"},
         {common_args(suite) + " --lovasz -1" + out, "--lovasz"},
+        {common_args(suite) + " --features rgb,sparkle" + out, "--features"},
         {common_args(suite) + " --resume " + (suite / "suite.json").string() + out, "--resume"},
     };
     for (const auto& c : cases) {

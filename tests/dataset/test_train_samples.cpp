@@ -1,15 +1,19 @@
 // Training samples (dataset/train/sample_drawer): labels, the ROI column, the first click's
 // placement, batch-sized subsets, click-weight features, later clicks by the benchmark
-// protocol, augmentation and determinism, on hand-made clouds and the sample desk scene.
+// protocol, augmentation and determinism, feature groups after the click weights, on hand-made
+// clouds and the sample desk scene.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 #include <vector>
 
 #include "dataset/error.h"
+#include "dataset/formats/scene_io.h"
 #include "dataset/random.h"
+#include "dataset/semantic/gaussian_features.h"
 #include "dataset/train/first_click.h"
 #include "dataset/train/sample_drawer.h"
 #include "tests/test_paths.h"
@@ -355,4 +359,51 @@ TEST_CASE("train: samples of the sample desk scene", "[train]") {
         REQUIRE(drawer.add_click(s, std::vector<uint8_t>(s.size(), 0)));
         CHECK(s.clicks.back().positive);
     }
+}
+
+TEST_CASE("train: feature groups follow the click weights, in the model's voxel, and colour augmentation keeps them in range",
+          "[train]") {
+    namespace sem = pg::data::semantic;
+    const auto groups = sem::all_feature_groups();
+    const auto dir = pg::test::source_dir() / "assets" / "sample" / "desk_000";
+    const TrainScene scene = load_train_scene(dir, std::nullopt, groups);
+    const pg::data::GaussianCloud cloud = pg::data::load_scene(dir / "scene.ply");
+    REQUIRE(scene.features.size() == 8 * scene.size());
+    SampleOptions o = SampleOptions{}.without_augmentation();
+    o.features = groups;
+    o.voxel = 0.02;
+    const SampleDrawer plain({scene}, o);
+    Rng rng(11);
+    Sample s = plain.draw(rng);
+    REQUIRE(s.feat.size() == 10 * s.size());
+    // What the decoder computes at inference for these Gaussians in this frame (ptv3_decoder.cpp).
+    std::vector<float> expect = sem::raw_gaussian_features(cloud, s.gaussians, groups, s.frame.up);
+    sem::finish_gaussian_features(expect, groups, 0.02 * s.frame.scale);
+    for (size_t i = 0; i < s.size(); ++i)
+        for (size_t c = 0; c < 8; ++c) REQUIRE(s.feat[10 * i + 2 + c] == Approx(expect[8 * i + c]).margin(1e-6));
+    // A later click recomputes the click weights and keeps the appearance.
+    std::vector<uint8_t> nothing(s.size(), 0);
+    REQUIRE(plain.add_click(s, nothing));
+    for (size_t i = 0; i < s.size(); i += 5) REQUIRE(s.feat[10 * i + 2] == Approx(expect[8 * i]).margin(1e-6));
+    // Other groups than rgb are never augmented; rgb stays in [0, 1] and changes.
+    SampleOptions a = o;
+    a.colour = true;
+    const SampleDrawer coloured({scene}, a);
+    Rng r1(11), r2(11);
+    const Sample t = coloured.draw(r1);
+    REQUIRE(t.gaussians == plain.draw(r2).gaussians);
+    bool changed = false;
+    for (size_t i = 0; i < t.size(); ++i) {
+        for (size_t c = 0; c < 3; ++c) {
+            const float v = t.feat[10 * i + 2 + c];
+            REQUIRE(v >= 0.0f);
+            REQUIRE(v <= 1.0f);
+            changed = changed || std::abs(v - expect[8 * i + c]) > 1e-4f;
+        }
+        for (size_t c = 3; c < 8; ++c) REQUIRE(t.feat[10 * i + 2 + c] == Approx(expect[8 * i + c]).margin(1e-6));
+    }
+    CHECK(changed);
+    // Scenes loaded with other groups than the drawer's are refused.
+    CHECK_THROWS_AS(SampleDrawer({load_train_scene(dir)}, o), std::invalid_argument);
+    CHECK_THROWS_AS(SampleDrawer({scene}, SampleOptions{}), std::invalid_argument);
 }
