@@ -13,7 +13,14 @@
 //   farthest from everything else.
 // - Largest: the most points; ties -> the region holding the lowest index. Every other tie
 //   also goes to the lowest index, so a click depends only on its inputs.
+// - Never twice in one place: Gaussians already clicked count as outside every region, so the
+//   next click lands at the point of its region farthest from both the region's boundary and
+//   the earlier clicks (a person clicks elsewhere on a part that ignored a click); a region
+//   of clicked Gaussians alone is passed over for the next largest. Without this rule a
+//   click that leaves the prediction unchanged is repeated on the same Gaussian until the
+//   session ends, and IoU-against-clicks curves go flat.
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <vector>
@@ -45,8 +52,10 @@ public:
     float link_radius() const { return link_radius_; }
 
     // The next click for the current prediction; nullopt when it equals the ground truth.
-    // Masks hold one byte per point, non-zero = inside. Throws InputError on a size mismatch.
-    std::optional<Click3D> next_click(std::span<const uint8_t> gt, std::span<const uint8_t> prediction) const;
+    // Masks hold one byte per point, non-zero = inside; `clicked`: the Gaussians of the
+    // session's earlier clicks. Throws InputError on a size mismatch.
+    std::optional<Click3D> next_click(std::span<const uint8_t> gt, std::span<const uint8_t> prediction,
+                                      std::span<const size_t> clicked = {}) const;
     // next_click with an empty prediction: the ground truth point farthest from every
     // point outside the ground truth (within its largest part); nullopt if gt is empty.
     std::optional<Click3D> first_click(std::span<const uint8_t> gt) const;

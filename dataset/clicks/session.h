@@ -32,9 +32,10 @@ struct SessionResult {
 template <class Click>
 class ClickSession {
 public:
-    // The click rule: where to click given the ground truth and the current prediction;
-    // nullopt when there is nothing left to click.
-    using NextClick = std::function<std::optional<Click>(const Mask& gt, const Mask& prediction)>;
+    // The click rule: where to click given the ground truth, the current prediction and the
+    // clicks so far; nullopt when there is nothing left to click.
+    using NextClick =
+        std::function<std::optional<Click>(const Mask& gt, const Mask& prediction, const std::vector<Click>& clicks)>;
     // The model under test: all clicks so far (in order) -> a prediction mask.
     using Predictor = std::function<Mask(const std::vector<Click>& clicks)>;
 
@@ -45,7 +46,7 @@ public:
         SessionResult<Click> result;
         Mask prediction(gt_.size(), 0);
         for (int k = 0; k < options_.max_clicks; ++k) {
-            std::optional<Click> click = next_click_(gt_, prediction);
+            std::optional<Click> click = next_click_(gt_, prediction, result.clicks);
             if (!click) break;
             result.clicks.push_back(*click);
             prediction = predict(result.clicks);
@@ -70,12 +71,21 @@ using ClickSession2D = ClickSession<Click2D>;
 // Sessions with the standard click rules. The clicker must outlive the session.
 inline ClickSession3D make_session_3d(const Clicker3D& clicker, Mask gt, SessionOptions options = {}) {
     return ClickSession3D(
-        std::move(gt), [&clicker](const Mask& g, const Mask& p) { return clicker.next_click(g, p); }, options);
+        std::move(gt),
+        [&clicker](const Mask& g, const Mask& p, const std::vector<Click3D>& clicks) {
+            std::vector<size_t> clicked;
+            for (const Click3D& c : clicks) clicked.push_back(c.index);
+            return clicker.next_click(g, p, clicked);
+        },
+        options);
 }
 
 inline ClickSession2D make_session_2d(int width, int height, Mask gt, SessionOptions options = {}) {
     return ClickSession2D(
-        std::move(gt), [width, height](const Mask& g, const Mask& p) { return next_click_2d(width, height, g, p); },
+        std::move(gt),
+        [width, height](const Mask& g, const Mask& p, const std::vector<Click2D>&) {
+            return next_click_2d(width, height, g, p);
+        },
         options);
 }
 

@@ -224,7 +224,12 @@ bool SampleDrawer::add_click(Sample& s, std::span<const uint8_t> prediction) con
     std::vector<uint8_t> gt(s.size());
     for (size_t i = 0; i < s.size(); ++i) gt[i] = s.labels[i] != 0;
     const clicks::Clicker3D clicker(s.position);
-    const auto click = clicker.next_click(gt, prediction);
+    std::vector<size_t> clicked;  // sample-local indices of the earlier clicks' Gaussians
+    for (const TrainClick& c : s.clicks) {
+        const auto it = std::lower_bound(s.gaussians.begin(), s.gaussians.end(), c.gaussian);
+        if (it != s.gaussians.end() && *it == c.gaussian) clicked.push_back(size_t(it - s.gaussians.begin()));
+    }
+    const auto click = clicker.next_click(gt, prediction, clicked);
     if (!click) return false;
     s.clicks.push_back({s.position[click->index], click->positive, s.gaussians[click->index]});
     compose_features(s);

@@ -389,6 +389,24 @@ TEST_CASE("clicks: 3D first click at the centre of a box inside a larger box", "
     const auto same = clicker.next_click(gt, Mask(gt.size(), 0));
     REQUIRE(same);
     CHECK(same->index == click->index);
+    // With that Gaussian clicked already, the next click moves off it, still inside the box,
+    // as deep as it can be while keeping away from the earlier click.
+    const std::vector<size_t> clicked{click->index};
+    const auto moved = clicker.next_click(gt, Mask(gt.size(), 0), clicked);
+    REQUIRE(moved);
+    CHECK(moved->index != click->index);
+    CHECK(gt[moved->index]);
+    CHECK(glm::distance(moved->position, click->position) >= 2.0f);
+    // A region made of clicked Gaussians alone is passed over for the next largest.
+    Mask two_specks(gt.size(), 0);
+    two_specks[grid.index(0, 0, 0)] = two_specks[grid.index(1, 0, 0)] = 1;
+    two_specks[grid.index(20, 20, 20)] = 1;
+    const std::vector<size_t> both{grid.index(0, 0, 0), grid.index(1, 0, 0)};
+    const auto other = clicker.next_click(two_specks, Mask(gt.size(), 0), both);
+    REQUIRE(other);
+    CHECK(other->index == grid.index(20, 20, 20));
+    const std::vector<size_t> all{grid.index(0, 0, 0), grid.index(1, 0, 0), grid.index(20, 20, 20)};
+    CHECK_FALSE(clicker.next_click(two_specks, Mask(gt.size(), 0), all));
 
     // A stray Gaussian of the object far from everything would be the farthest from all
     // non-object points; the click stays in the object's largest part.
@@ -481,6 +499,12 @@ TEST_CASE("clicks: a session stops at 20 clicks when nothing improves", "[clicks
     CHECK(r.clicks.size() == 20);
     REQUIRE(r.iou_per_click.size() == 20);
     CHECK(r.iou_per_click.back() == 0.0);
+    // A person clicks elsewhere on a part that ignored a click: never the same Gaussian twice,
+    // and each click keeps at least a spacing from the earlier ones, all inside the object.
+    for (size_t k = 0; k < r.clicks.size(); ++k) {
+        CHECK(gt[r.clicks[k].index]);
+        for (size_t j = 0; j < k; ++j) CHECK(glm::distance(r.clicks[k].position, r.clicks[j].position) >= 1.0f);
+    }
 
     SessionOptions five;
     five.max_clicks = 5;
