@@ -51,7 +51,7 @@ TEST_CASE("boundary contrast: a cut along a weak edge scores its weakness, one t
     CHECK(seg::boundary_contrast(g, label, 4)[2] == Approx(1.0));
 }
 
-TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at the larger ROI scale and says so, one within it is solved once") {
+TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at the larger ROI scale and says so, one within it is solved once, and past the node limit the larger scale is left out") {
     // An orange rod 1.2 long held 0.05 above a grey floor (on supports out of the picture),
     // clicked 0.1 from one end. The ROI at scale 1
     // (1.25 wide about the click) ends halfway along the rod: the margin's background seeds lie
@@ -117,4 +117,21 @@ TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at t
     CHECK(rod_iou(middle) > 0.95);
     CHECK(middle.objects[0].scale_answers.size() == 1);
     CHECK(middle.objects[0].graph_scale == 2.0);
+    // A larger scale's domain past the graph's node limit is left out before any decimation:
+    // every node at scale 1 rather than every n-th at scale 2.
+    o.graph_scales = {1.0};
+    const auto one = segmenter.segment(p, o);
+    o.graph_scales = {1.0, 2.0};
+    REQUIRE(one.graph);
+    REQUIRE(middle.graph);
+    const size_t small_domain = one.graph->domain, large_domain = middle.graph->domain;
+    REQUIRE(large_domain > small_domain);
+    o.graph_max_nodes = (small_domain + large_domain) / 2;
+    const auto limited = segmenter.segment(p, o);
+    REQUIRE(limited.failed() == 0);
+    REQUIRE(limited.graph);
+    CHECK(limited.graph->stride == 1);
+    CHECK(limited.graph->domain == small_domain);
+    CHECK(limited.objects[0].graph_scale == 1.0);
+    CHECK(rod_iou(limited) > 0.95);
 }
