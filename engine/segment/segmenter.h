@@ -8,12 +8,14 @@
 // empty) fails alone: its error is kept and the others are segmented.
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
 
 #include "dataset/camera.h"
+#include "dataset/clicks/point_grid.h"
 #include "dataset/gaussian_cloud.h"
 #include "dataset/prompts.h"
 #include "engine/render/renderer.h"
@@ -147,6 +149,13 @@ struct GraphDomain {
     glm::vec3 lo{0.0f}, hi{0.0f};  // the nodes' bounding box
 };
 
+// The domain's node centres and a hash grid over them: where each click's nearest node is found.
+struct NodeGrid {
+    std::vector<glm::vec3> position;  // per node (the grid keeps a view of it)
+    std::unique_ptr<data::clicks::PointGrid> grid;
+    NodeGrid(const data::GaussianCloud& cloud, const GraphDomain& d, float cell);
+};
+
 class Segmenter {
 public:
     Segmenter(vk::Context& ctx, const data::GaussianCloud& cloud, const render::GpuScene& scene,
@@ -177,10 +186,10 @@ private:
     void solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                      const std::vector<std::vector<uint32_t>>& rois, const std::vector<std::vector<float>>& probabilities,
                      SegmentResult& result);
-    // Each click seeds its nearest node and that node's neighbours with its object's label.
-    // (With `nbr` null: the nearest nodes alone; `cell`: the node grid's cell side.)
+    // Each click seeds its nearest node (in `nodes`, a grid over d's nodes) and that node's
+    // neighbours with its object's label (with `nbr` null: the nearest nodes alone).
     void seed_clicks(const std::vector<ObjectResult*>& objects, const GraphDomain& d, const std::vector<uint32_t>* nbr,
-                     float cell, WalkProblem& pr) const;
+                     const NodeGrid& nodes, WalkProblem& pr) const;
     // The coarse answer before the fine graph is built, where the options want one and the
     // decoder allows it (graph alone, a walk); false if it was not given.
     bool early_coarse_answer(const SegmentOptions& o, const std::vector<ObjectResult*>& objects, const GraphDomain& d,
@@ -244,6 +253,7 @@ private:
     SeededForest forest_;
     std::vector<uint32_t> graph_domain_;  // the domain graph_ was built over, and with which options
     GraphOptions graph_built_with_;
+    std::optional<NodeGrid> node_grid_;   // over graph_'s nodes, made once per graph
     // Per ROI scale, the last walk's answer (a column per label id in ids, 0: background), for
     // warm starts: a scale starts from its own last answer, never from another scale's.
     std::map<double, WarmStart> warm_;

@@ -314,7 +314,9 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         graph_domain_ = d.domain;
         graph_built_with_ = o.graph_options;
         warm_.clear();
+        node_grid_.reset();
     }
+    if (!node_grid_) node_grid_.emplace(cloud_, d, graph_.cell_side());
     result.stage_ms["graph build"] += ms_since(t0);
 
     const uint32_t nodes = uint32_t(d.domain.size());
@@ -329,7 +331,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         t0 = Clock::now();
         scale_rois(cloud_, objects, scales[f], d);
         WalkProblem pr = margin_problem(d, objects.size());
-        seed_clicks(objects, d, &nbr, graph_.cell_side(), pr);
+        seed_clicks(objects, d, &nbr, *node_grid_, pr);
         if (o.graph == GraphUse::Unary) {
             if (f == 0) {
                 const auto degree = vk::download_vector<float>(ctx_, graph_.degree_buffer(), nodes);
@@ -400,12 +402,13 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
     if (early_coarse_answer(o, objects, d, result)) rest.on_coarse = nullptr;
     stop_if_cancelled(o.cancel);
     graph_domain_.clear();  // graph_ does not hold this domain: the next click builds again
+    node_grid_.reset();
     warm_.clear();
 
     auto t0 = Clock::now();
     const uint32_t nodes = uint32_t(d.domain.size());
     WalkProblem pr = margin_problem(d, objects.size());
-    seed_clicks(objects, d, nullptr, node_cell(d), pr);
+    seed_clicks(objects, d, nullptr, NodeGrid(cloud_, d, node_cell(d)), pr);
     if (o.graph == GraphUse::Unary) network_prior(o, objects, rois, probabilities, d, nullptr, pr);
     const uint64_t clicked = uint64_t(std::count_if(pr.seed.begin(), pr.seed.end(), [](int32_t v) { return v > 0; }));
     if (clicked + 64 >= capacity)
@@ -466,8 +469,14 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
     result.stage_ms["graph solve"] += ms_since(t0);
 }
 
+NodeGrid::NodeGrid(const data::GaussianCloud& cloud, const GraphDomain& d, float cell) : position(d.domain.size()) {
+    std::vector<uint32_t> all(d.domain.size());
+    for (uint32_t i = 0; i < all.size(); ++i) position[i] = cloud.mean[d.domain[i]], all[i] = i;
+    grid = std::make_unique<data::clicks::PointGrid>(position, all, std::max(cell, 1e-6f));
+}
+
 void Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const GraphDomain& d,
-                            const std::vector<uint32_t>* nbr, float cell, WalkProblem& pr) const {
+                            const std::vector<uint32_t>* nbr, const NodeGrid& node_grid, WalkProblem& pr) const {
     const uint32_t nodes = uint32_t(d.domain.size());
     const std::vector<int32_t>& node_of = d.node_of;
     // A click seeds the Gaussian whose centre is nearest to its 3D point and that Gaussian's graph
@@ -475,10 +484,6 @@ void Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const Gra
     // footprint covers the pixel while its centre lies a metre away, or a faint one whose every
     // edge is weak; a seed like that loses its object in the forest. Seeds win over neighbours.
     const uint32_t k = graph_.k();
-    std::vector<glm::vec3> node_pos(nodes);
-    std::vector<uint32_t> all_nodes(nodes);
-    for (uint32_t i = 0; i < nodes; ++i) node_pos[i] = cloud_.mean[d.domain[i]], all_nodes[i] = i;
-    const data::clicks::PointGrid node_grid(node_pos, all_nodes, std::max(cell, 1e-6f));
     struct ClickSeed {
         uint32_t node;
         int32_t label;
@@ -488,7 +493,7 @@ void Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const Gra
         for (auto& a : objects[j]->anchors) {
             if (a.gaussian < 0 || node_of[size_t(a.gaussian)] < 0) continue;
             uint32_t i = uint32_t(node_of[size_t(a.gaussian)]);  // kept if no node is near the point
-            node_grid.nearest(glm::vec3(a.position), 0xFFFFFFFFu, 8, &i);
+            node_grid.grid->nearest(glm::vec3(a.position), 0xFFFFFFFFu, 8, &i);
             clicks.push_back({i, a.positive ? int32_t(j + 1) : 0});
         }
     if (nbr)
@@ -509,7 +514,7 @@ bool Segmenter::early_coarse_answer(const SegmentOptions& o, const std::vector<O
         return false;
     auto t0 = Clock::now();
     WalkProblem early = margin_problem(d, objects.size());
-    seed_clicks(objects, d, nullptr, node_cell(d), early);
+    seed_clicks(objects, d, nullptr, NodeGrid(cloud_, d, node_cell(d)), early);
     // The full solve's rule on the coarse graph (walk, and forest where the walk is unsure),
     // carried to every node by its nearest coarse node. The coarse nodes are every n-th in
     // Morton order, a uniform spatial subsample: thin parts keep their nodes (every n-th in scene
