@@ -187,6 +187,7 @@ TEST_CASE("clicks: bad input is one clear line, a non-zero exit and nothing writ
         {gt + " --model " + (dir / "three.safetensors").string() + " --split all" + out, "not an interactive model"},
         {gt + " --model ground-truth --split all --max-clicks 0" + out, "--max-clicks"},
         {gt + " --model ground-truth --split all --roi 1" + out, "--roi"},
+        {gt + " --decoder graph --split all --graph-scales 1,0" + out, "--graph-scales"},
         {gt + " --model ground-truth --split all --out " + suite.string(), "suite folder"},
     };
     for (const auto& c : cases) {
