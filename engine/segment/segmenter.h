@@ -149,9 +149,12 @@ struct GraphDomain {
     glm::vec3 lo{0.0f}, hi{0.0f};  // the nodes' bounding box
 };
 
-// The domain's node centres and a hash grid over them: where each click's nearest node is found.
+// What the host reads per node of a domain, made once per graph: centres and a hash grid over
+// them (each click's nearest node), colours of the SH DC term and opacities (the bridges).
 struct NodeGrid {
     std::vector<glm::vec3> position;  // per node (the grid keeps a view of it)
+    std::vector<glm::vec3> colour;
+    std::vector<float> opacity;
     std::unique_ptr<data::clicks::PointGrid> grid;
     NodeGrid(const data::GaussianCloud& cloud, const GraphDomain& d, float cell);
 };

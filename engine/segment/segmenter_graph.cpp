@@ -469,9 +469,17 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
     result.stage_ms["graph solve"] += ms_since(t0);
 }
 
-NodeGrid::NodeGrid(const data::GaussianCloud& cloud, const GraphDomain& d, float cell) : position(d.domain.size()) {
+NodeGrid::NodeGrid(const data::GaussianCloud& cloud, const GraphDomain& d, float cell)
+    : position(d.domain.size()), colour(d.domain.size()), opacity(d.domain.size()) {
     std::vector<uint32_t> all(d.domain.size());
-    for (uint32_t i = 0; i < all.size(); ++i) position[i] = cloud.mean[d.domain[i]], all[i] = i;
+    const size_t coeffs = size_t(cloud.coeffs());
+    for (uint32_t i = 0; i < all.size(); ++i) {
+        const uint32_t g = d.domain[i];
+        position[i] = cloud.mean[g], all[i] = i;
+        for (int c = 0; c < 3; ++c)
+            colour[i][c] = cloud.sh.empty() ? 0.5f : std::clamp(0.5f + data::kShC0 * cloud.sh[g * coeffs * 3 + c], 0.0f, 1.0f);
+        opacity[i] = 1.0f / (1.0f + std::exp(-cloud.opacity_logit[g]));
+    }
     grid = std::make_unique<data::clicks::PointGrid>(position, all, std::max(cell, 1e-6f));
 }
 
@@ -701,15 +709,11 @@ void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uin
     for (uint32_t i = 0; i < nodes; ++i)
         if (seeded[i]) members.push_back(i);
     if (members.empty() || members.size() == nodes) return;
-    std::vector<glm::vec3> position(nodes), colour(nodes);
-    std::vector<float> opacity(nodes);
-    const size_t coeffs = size_t(cloud_.coeffs());
-    for (uint32_t i = 0; i < nodes; ++i) {
-        const uint32_t g = domain[i];
-        position[i] = cloud_.mean[g];
-        for (int c = 0; c < 3; ++c) colour[i][c] = std::clamp(0.5f + data::kShC0 * cloud_.sh[g * coeffs * 3 + c], 0.0f, 1.0f);
-        opacity[i] = 1.0f / (1.0f + std::exp(-cloud_.opacity_logit[g]));
-    }
+    if (!node_grid_ || node_grid_->position.size() != nodes)
+        throw std::logic_error("bridge_components: no node data for this domain");
+    const std::vector<glm::vec3>& position = node_grid_->position;
+    const std::vector<glm::vec3>& colour = node_grid_->colour;
+    const std::vector<float>& opacity = node_grid_->opacity;
     const GraphOptions& go = o.graph_options;
     const double spacing = double(graph_.median_spacing()) * go.distance;
     constexpr int kReach = 4;  // grid cells
