@@ -3,7 +3,6 @@
 // over repeated runs.
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -70,9 +69,7 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     seg::SegmentOptions o;
     o.up = data::up_from_cameras(cameras);
     o.graph = graph;
-    for (double f : a.graph_scales)
-        if (!(f > 0 && std::isfinite(f))) throw data::InputError("--graph-scales", "expected factors > 0, got " + std::to_string(f));
-    o.graph_scales = a.graph_scales;
+    o.graph_scales = checked_graph_scales(a.graph_scales);
     // The viewer's path: a cold solve first hands over the coarse graph's answer.
     auto t0 = std::chrono::steady_clock::now();
     double coarse_ms = -1, new_coarse_ms = -1;

@@ -4,7 +4,6 @@
 // --max-clicks. Each scene's IoU curves go to PRED_DIR/<scene>/clicks.json for `eval`.
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -140,9 +139,7 @@ void run_clicks(const ClicksArgs& a) {
         throw data::InputError("--out", "is the suite folder; predictions go to a folder of their own");
     seg::SegmentOptions o;
     o.graph = graph_use;
-    for (double f : a.graph_scales)
-        if (!(f > 0 && std::isfinite(f))) throw data::InputError("--graph-scales", "expected factors > 0, got " + std::to_string(f));
-    o.graph_scales = a.graph_scales;
+    o.graph_scales = checked_graph_scales(a.graph_scales);
     o.solver = solver;
     o.lift = lift;
     o.sigma = a.sigma;

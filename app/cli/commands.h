@@ -65,6 +65,8 @@ inline double median(std::vector<double> v) {
 
 // "L,W" (both > 0) -> the ROI length and width; InputError naming --roi otherwise.
 void parse_roi(const std::string& spec, double& length, double& width);
+// --graph-scales as given, each factor > 0 and finite; InputError naming the flag otherwise.
+const std::vector<double>& checked_graph_scales(const std::vector<double>& scales);
 
 // The engine's InputErrors name its parameters ("sigma", "roi", "decoder"); the CLI's name the
 // flags that set them. flag_for maps an error's where(), with_flags an object's error text

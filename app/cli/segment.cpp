@@ -55,6 +55,12 @@ void run_segment(const SegmentArgs& args);
 
 }  // namespace
 
+const std::vector<double>& checked_graph_scales(const std::vector<double>& scales) {
+    for (double f : scales)
+        if (!(f > 0 && std::isfinite(f))) throw data::InputError("--graph-scales", "expected factors > 0, got " + std::to_string(f));
+    return scales;
+}
+
 void parse_roi(const std::string& spec, double& length, double& width) {
     char extra;
     if (std::sscanf(spec.c_str(), "%lf,%lf%c", &length, &width, &extra) != 2 || !(length > 0 && width > 0))
@@ -116,11 +122,9 @@ void run_segment(const SegmentArgs& args) {
     o.coarse_stride = a.coarse;
     o.graph_max_nodes = a.graph_max_nodes;
     o.graph_margin = a.margin;
-    for (double f : a.scales)
-        if (!(f > 0 && std::isfinite(f))) throw data::InputError("--graph-scales", "expected factors > 0, got " + std::to_string(f));
     if (!(a.scale_ratio > 0 && a.scale_ratio <= 1))
         throw data::InputError("--graph-scale-ratio", "expected a ratio in (0, 1], got " + std::to_string(a.scale_ratio));
-    o.graph_scales = a.scales;
+    o.graph_scales = checked_graph_scales(a.scales);
     o.graph_scale_ratio = a.scale_ratio;
     o.solver = solver;
     o.walk_sure = a.walk_sure;

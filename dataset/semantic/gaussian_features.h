@@ -1,7 +1,8 @@
 #pragma once
 // Per-Gaussian appearance and shape features, for models that see more than click maps (the
-// semantic model, and interactive models whose config lists feature groups). A model's config lists the groups it was trained on, by these names; training
-// and inference both compute them here, so they cannot drift apart.
+// semantic model, and interactive models whose config lists feature groups). A model's config
+// lists the groups it was trained on, by these names; training and inference both compute them
+// here, so they cannot drift apart.
 //   rgb          3  colour of the SH DC term, clamped to [0, 1]
 //   opacity      1  sigmoid of the logit
 //   log_scale    3  the three axis scales' natural logs, largest first, less log(unit): the unit

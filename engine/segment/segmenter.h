@@ -149,14 +149,14 @@ struct GraphDomain {
     glm::vec3 lo{0.0f}, hi{0.0f};  // the nodes' bounding box
 };
 
-// What the host reads per node of a domain, made once per graph: centres and a hash grid over
-// them (each click's nearest node), colours of the SH DC term and opacities (the bridges).
+// What the host reads per node of a domain: centres and a hash grid over them (each click's
+// nearest node) and, with `appearance`, colours of the SH DC term and opacities (the bridges).
+// The fine graph's is made once per graph.
 struct NodeGrid {
     std::vector<glm::vec3> position;  // per node (the grid keeps a view of it)
-    std::vector<glm::vec3> colour;
-    std::vector<float> opacity;
+    std::vector<float> appearance;    // per node: r, g, b, opacity (empty without `appearance`)
     std::unique_ptr<data::clicks::PointGrid> grid;
-    NodeGrid(const data::GaussianCloud& cloud, const GraphDomain& d, float cell);
+    NodeGrid(const data::GaussianCloud& cloud, const GraphDomain& d, float cell, bool appearance);
 };
 
 class Segmenter {

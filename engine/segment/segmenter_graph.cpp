@@ -8,6 +8,7 @@
 #include <unordered_set>
 
 #include "dataset/clicks/point_grid.h"
+#include "dataset/semantic/gaussian_features.h"
 #include "engine/segment/boundary_contrast.h"
 #include "engine/vk/context.h"
 
@@ -316,7 +317,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         warm_.clear();
         node_grid_.reset();
     }
-    if (!node_grid_) node_grid_.emplace(cloud_, d, graph_.cell_side());
+    if (!node_grid_) node_grid_.emplace(cloud_, d, graph_.cell_side(), true);
     result.stage_ms["graph build"] += ms_since(t0);
 
     const uint32_t nodes = uint32_t(d.domain.size());
@@ -408,7 +409,7 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
     auto t0 = Clock::now();
     const uint32_t nodes = uint32_t(d.domain.size());
     WalkProblem pr = margin_problem(d, objects.size());
-    seed_clicks(objects, d, nullptr, NodeGrid(cloud_, d, node_cell(d)), pr);
+    seed_clicks(objects, d, nullptr, NodeGrid(cloud_, d, node_cell(d), false), pr);
     if (o.graph == GraphUse::Unary) network_prior(o, objects, rois, probabilities, d, nullptr, pr);
     const uint64_t clicked = uint64_t(std::count_if(pr.seed.begin(), pr.seed.end(), [](int32_t v) { return v > 0; }));
     if (clicked + 64 >= capacity)
@@ -469,18 +470,13 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
     result.stage_ms["graph solve"] += ms_since(t0);
 }
 
-NodeGrid::NodeGrid(const data::GaussianCloud& cloud, const GraphDomain& d, float cell)
-    : position(d.domain.size()), colour(d.domain.size()), opacity(d.domain.size()) {
+NodeGrid::NodeGrid(const data::GaussianCloud& cloud, const GraphDomain& d, float cell, bool with_appearance)
+    : position(d.domain.size()) {
     std::vector<uint32_t> all(d.domain.size());
-    const size_t coeffs = size_t(cloud.coeffs());
-    for (uint32_t i = 0; i < all.size(); ++i) {
-        const uint32_t g = d.domain[i];
-        position[i] = cloud.mean[g], all[i] = i;
-        for (int c = 0; c < 3; ++c)
-            colour[i][c] = cloud.sh.empty() ? 0.5f : std::clamp(0.5f + data::kShC0 * cloud.sh[g * coeffs * 3 + c], 0.0f, 1.0f);
-        opacity[i] = 1.0f / (1.0f + std::exp(-cloud.opacity_logit[g]));
-    }
+    for (uint32_t i = 0; i < all.size(); ++i) position[i] = cloud.mean[d.domain[i]], all[i] = i;
     grid = std::make_unique<data::clicks::PointGrid>(position, all, std::max(cell, 1e-6f));
+    // Neither group reads the up axis.
+    if (with_appearance) appearance = data::semantic::raw_gaussian_features(cloud, d.domain, {"rgb", "opacity"}, {0, 0, 1});
 }
 
 void Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const GraphDomain& d,
@@ -522,7 +518,7 @@ bool Segmenter::early_coarse_answer(const SegmentOptions& o, const std::vector<O
         return false;
     auto t0 = Clock::now();
     WalkProblem early = margin_problem(d, objects.size());
-    seed_clicks(objects, d, nullptr, NodeGrid(cloud_, d, node_cell(d)), early);
+    seed_clicks(objects, d, nullptr, NodeGrid(cloud_, d, node_cell(d), false), early);
     // The full solve's rule on the coarse graph (walk, and forest where the walk is unsure),
     // carried to every node by its nearest coarse node. The coarse nodes are every n-th in
     // Morton order, a uniform spatial subsample: thin parts keep their nodes (every n-th in scene
@@ -709,11 +705,12 @@ void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uin
     for (uint32_t i = 0; i < nodes; ++i)
         if (seeded[i]) members.push_back(i);
     if (members.empty() || members.size() == nodes) return;
-    if (!node_grid_ || node_grid_->position.size() != nodes)
+    if (!node_grid_ || node_grid_->appearance.size() != size_t(nodes) * 4)
         throw std::logic_error("bridge_components: no node data for this domain");
     const std::vector<glm::vec3>& position = node_grid_->position;
-    const std::vector<glm::vec3>& colour = node_grid_->colour;
-    const std::vector<float>& opacity = node_grid_->opacity;
+    const float* appearance = node_grid_->appearance.data();  // r, g, b, opacity per node
+    auto colour = [&](uint32_t i) { return glm::vec3(appearance[4 * i], appearance[4 * i + 1], appearance[4 * i + 2]); };
+    auto opacity = [&](uint32_t i) { return appearance[4 * i + 3]; };
     const GraphOptions& go = o.graph_options;
     const double spacing = double(graph_.median_spacing()) * go.distance;
     constexpr int kReach = 4;  // grid cells
@@ -745,9 +742,9 @@ void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uin
         if (!near_seeded(position[i])) continue;
         const double d2 = grid.nearest(position[i], 0xFFFFFFFFu, kReach, &end[i]);
         if (d2 < 0) continue;
-        const glm::vec3 dc = colour[i] - colour[end[i]];
+        const glm::vec3 dc = colour(i) - colour(end[i]);
         bridge[i] = std::exp(-double(go.colour) * glm::dot(dc, dc) - d2 / (spacing * spacing)) *
-                    std::pow(double(std::min(opacity[i], opacity[end[i]])), double(go.opacity));
+                    std::pow(double(std::min(opacity(i), opacity(end[i]))), double(go.opacity));
     }
     std::stable_sort(unseeded.begin(), unseeded.end(), [&](uint32_t a, uint32_t b) { return root[a] < root[b]; });
     std::vector<double> sum(labels);
