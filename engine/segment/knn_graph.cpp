@@ -44,14 +44,14 @@ float spacing_of(const std::vector<glm::vec3>& p, const std::vector<uint32_t>& d
 }  // namespace
 
 KnnGraph::KnnGraph(vk::Context& ctx) : ctx_(ctx), cmd_(ctx), sort_(ctx), scan_(ctx) {
-    for (auto* b : {&domain_buf_, &pos_, &colour_, &normal_, &keys_, &values_, &nbr_, &dist_, &spacing_, &weight_, &reverse_start_,
+    for (auto* b : {&domain_buf_, &pos_, &colour_, &normal_, &keys_, &values_, &nbr_, &dist_, &spacing_, &weight_, &reverse_count_,
                     &columns_, &adjacency_weights_,
-                    &rows_, &degree_})
+                    &rows_, &degree_, &row_start_, &sorted_})
         *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "graph");
 }
 
 uint64_t KnnGraph::max_nodes(const vk::Context& ctx, uint32_t k) {
-    // 2 k uint32 edge keys (and values) per node; the walker's label columns, up to 4 vec4s.
+    // 2 k uint32 adjacency columns (and weights) per node; the walker's label columns, up to 4 vec4s.
     const uint64_t widest = std::max<uint64_t>(8ull * k, 64);
     return ctx.info().max_storage_buffer_range / widest;
 }
@@ -97,14 +97,17 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     }
     cell_ = o.cell * median_spacing_;
     glm::uvec3 dims, bits;
+    // The row table (a start per row of cells along x) stays within a few entries per node.
+    const uint64_t most_rows = std::max<uint64_t>(4ull * n, 1ull << 20);
     for (;;) {
         for (int a = 0; a < 3; ++a) {
             dims[a] = uint32_t(std::min(1e6, std::floor(double(hi[a] - lo[a]) / cell_) + 1.0));
             bits[a] = bits_for(dims[a]);
         }
-        if (bits.x + bits.y + bits.z <= 32) break;
-        cell_ *= 1.25f;  // a grid too fine for 32-bit keys: coarser cells stay exact, only slower
+        if (bits.x + bits.y + bits.z <= 32 && uint64_t(dims.y) * dims.z <= most_rows) break;
+        cell_ *= 1.25f;  // a grid too fine for 32-bit keys or the row table: coarser cells stay exact, only slower
     }
+    const uint32_t grid_rows = dims.y * dims.z;
 
     const uint64_t nk = uint64_t(n) * k;
     domain_buf_.ensure(uint64_t(n) * 4);
@@ -113,13 +116,15 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     colour_.ensure(uint64_t(n) * 16);
     normal_.ensure(uint64_t(n) * 16);
     keys_.ensure(std::max<uint64_t>(n, entries) * 4);
-    values_.ensure(std::max<uint64_t>(n, entries) * 4);
+    values_.ensure(uint64_t(n) * 4);
     nbr_.ensure(nk * 4);
     dist_.ensure(nk * 4);
     spacing_.ensure(uint64_t(n) * 4);
+    row_start_.ensure(uint64_t(grid_rows + 1) * 4);
+    sorted_.ensure(uint64_t(n) * 16);
     weight_.ensure(nk * 4);
     rows_.ensure(uint64_t(n + 1) * 4);
-    reverse_start_.ensure(uint64_t(n) * 4);
+    reverse_count_.ensure(uint64_t(n) * 4);
     adjacency_weights_.ensure(entries * 4);
     degree_.ensure(uint64_t(n) * 4);
 
@@ -155,23 +160,26 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
         vk::upload(ctx_, domain_buf_, domain.data(), uint64_t(n) * 4);
     }
     cmd_.begin_pass("graph cells");
-    cmd_.dispatch("segment/graph_cells", {pos_, keys_, values_}, grid, graph_groups(n));
+    cmd_.fill(row_start_, 0, 0, uint64_t(grid_rows + 1) * 4);
+    cmd_.dispatch("segment/graph_cells", {pos_, keys_, values_, row_start_}, grid, graph_groups(n));
     sort_.sort(cmd_, keys_, values_, n, std::max(1u, bits.x + bits.y + bits.z), sort::KeyWidth::Bits32);
+    scan_.exclusive(cmd_, row_start_, row_start_, grid_rows + 1);
+    cmd_.dispatch("segment/graph_sorted", {pos_, values_, sorted_}, grid, graph_groups(n));
     cmd_.begin_pass("graph knn");
-    cmd_.dispatch("segment/graph_knn", {pos_, keys_, values_, nbr_, dist_, spacing_}, grid, graph_groups(n));
+    cmd_.dispatch("segment/graph_knn", {sorted_, keys_, row_start_, nbr_, dist_, spacing_}, grid, graph_groups(n));
     cmd_.begin_pass("graph weights");
     cmd_.dispatch("segment/graph_weights", {pos_, colour_, normal_, nbr_, dist_, spacing_, weight_}, wpush, graph_groups(nk));
     // W + W^T with each pair once: a row is the node's own slots (already grouped) and the slots
-    // of nodes that list it and that it does not list, so only those are sorted by row; a prefix sum of the row
-    // lengths places the rows. The columns go to keys_, which then becomes columns_.
+    // of nodes that list it and that it does not list, counted per row, placed by a prefix sum of
+    // the row lengths and sorted within the row. The columns go to keys_, which then becomes columns_.
     cmd_.begin_pass("graph adjacency");
+    cmd_.fill(reverse_count_, 0, 0, uint64_t(n) * 4);
     // dist_ (read by graph_weights only) holds each slot's twin.
-    cmd_.dispatch("segment/graph_edge_keys", {nbr_, keys_, values_, dist_}, epush, graph_groups(nk));
-    sort_.sort(cmd_, keys_, values_, uint32_t(nk), bits_for(n + 1), sort::KeyWidth::Bits32);
-    cmd_.dispatch("segment/graph_row_counts", {nbr_, keys_, rows_, reverse_start_}, epush, graph_groups(uint64_t(n) + 1));
+    cmd_.dispatch("segment/graph_twins", {nbr_, dist_, reverse_count_}, epush, graph_groups(nk));
+    cmd_.dispatch("segment/graph_row_counts", {nbr_, reverse_count_, rows_}, epush, graph_groups(uint64_t(n) + 1));
     scan_.exclusive(cmd_, rows_, rows_, n + 1);
-    cmd_.dispatch("segment/graph_rows", {nbr_, values_, reverse_start_, dist_, weight_, rows_, keys_, adjacency_weights_, degree_},
-                  epush, graph_groups(n));
+    cmd_.dispatch("segment/graph_reverse", {nbr_, dist_, rows_, reverse_count_, keys_}, epush, graph_groups(nk));
+    cmd_.dispatch("segment/graph_rows", {nbr_, dist_, weight_, rows_, keys_, adjacency_weights_, degree_}, epush, graph_groups(n));
     cmd_.end_pass();
     cmd_.submit_and_wait();
     std::swap(keys_, columns_);

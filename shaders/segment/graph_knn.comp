@@ -3,26 +3,29 @@
 // cells (exact within one cell side), nearest first, and the node's local spacing (the mean
 // distance to them). A node with fewer than k there may search further shells of cells (dims.w,
 // at most kGraphMaxShells): sparse Gaussians (large ones, floaters, thin parts) are otherwise
-// islands no seed reaches. A row of cells' nodes are found by a binary search in the sorted cell keys.
+// islands no seed reaches. A row of cells' nodes are one run of the sorted keys, found by a
+// binary search inside the run of their whole row of cells along x (row_start).
 // Past kGraphMaxScan candidates a node keeps the nearest it has found: a cell that holds a large
 // share of the scene (thousands of Gaussians collapsed onto one point) would otherwise make the
 // search quadratic. Real and synthetic scenes scan at most ~300 (median 18-43).
+// Invocations take the nodes in sorted order, so a SIMD group's lanes share cells: their loops
+// run about as long and their loads hit the same lines.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #include "common/dispatch.glsl"
 #include "segment/graph_shared.h"
 #include "segment/graph_grid.glsl"
 
 layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer Pos { vec4 pos[]; };
-layout(std430, binding = 1) readonly buffer Keys { uint keys[]; };      // sorted
-layout(std430, binding = 2) readonly buffer Values { uint values[]; };  // node of each sorted key
+layout(std430, binding = 0) readonly buffer Sorted { uvec4 sorted_pos[]; };  // graph_sorted
+layout(std430, binding = 1) readonly buffer Keys { uint keys[]; };            // sorted
+layout(std430, binding = 2) readonly buffer RowStart { uint row_start[]; };   // graph_cells, scanned
 layout(std430, binding = 3) writeonly buffer Nbr { uint nbr[]; };       // k per node, kGraphNone if fewer
 layout(std430, binding = 4) writeonly buffer Dist { float dist[]; };    // k per node
 layout(std430, binding = 5) writeonly buffer Spacing { float spacing[]; };
 layout(push_constant) uniform Push { GraphGridPush pc; };
 
-uint lower_bound(uint key, uint n) {
-    uint lo = 0u, hi = n;
+uint lower_bound(uint key, uint lo, uint hi) {
     while (lo < hi) {
         uint mid = (lo + hi) >> 1;
         if (keys[mid] < key) lo = mid + 1u; else hi = mid;
@@ -31,14 +34,18 @@ uint lower_bound(uint key, uint n) {
 }
 
 void main() {
-    uint i = pg_global_index();
+    uint g = pg_global_index();
     uint n = pc.bits.z, k = pc.bits.w;
-    if (i >= n) return;
-    vec3 p = pos[i].xyz;
+    if (g >= n) return;
+    uvec4 own = sorted_pos[g];
+    uint i = own.w;
+    vec3 p = uintBitsToFloat(own.xyz);
     ivec3 c = cell_of(p, pc.origin, pc.dims);
     float best_d[kGraphMaxK];
     uint best_j[kGraphMaxK];
-    for (uint t = 0u; t < kGraphMaxK; ++t) best_d[t] = 3.4e38, best_j[t] = kGraphNone;
+    [[unroll]] for (uint t = 0u; t < kGraphMaxK; ++t) best_d[t] = 3.4e38, best_j[t] = kGraphNone;
+    float worst_d = 3.4e38;  // the k-th nearest so far
+    uint worst_j = kGraphNone;
     uint found = 0u, scanned = 0u;
     int shells = int(min(max(pc.dims.w, 1u), kGraphMaxShells));
     for (int ring = 0; ring <= shells && (ring <= 1 || found < k); ++ring)
@@ -57,28 +64,38 @@ void main() {
                     x1 = min(x1, int(pc.dims.x) - 1);
                     if (x0 > x1) continue;
                     uint first = cell_key(ivec3(x0, q), pc.bits), last = cell_key(ivec3(x1, q), pc.bits);
-                    for (uint s = lower_bound(first, n); s < n && keys[s] <= last && scanned < kGraphMaxScan; ++s, ++scanned) {
-                        uint j = values[s];
+                    uint row = uint(q.x) + pc.dims.y * uint(q.y), end = row_start[row + 1u];
+                    for (uint s = lower_bound(first, row_start[row], end); s < end && keys[s] <= last && scanned < kGraphMaxScan;
+                         ++s, ++scanned) {
+                        uvec4 other = sorted_pos[s];
+                        uint j = other.w;
                         if (j == i) continue;
-                        vec3 d = pos[j].xyz - p;
+                        vec3 d = uintBitsToFloat(other.xyz) - p;
                         float d2 = dot(d, d);
                         // Ties go to the smaller node id, so the result does not depend on the scan order.
-                        uint tail = k - 1u;
-                        if (d2 > best_d[tail] || (d2 == best_d[tail] && j >= best_j[tail])) continue;
-                        uint t = tail;
-                        while (t > 0u && (d2 < best_d[t - 1u] || (d2 == best_d[t - 1u] && j < best_j[t - 1u]))) {
-                            best_d[t] = best_d[t - 1u];
-                            best_j[t] = best_j[t - 1u];
-                            --t;
+                        if (d2 > worst_d || (d2 == worst_d && j >= worst_j)) continue;
+                        // Into the sorted list by compare-and-swap at constant indices: the lists stay
+                        // in registers (an index that varies is memory, lane by lane, on lavapipe).
+                        float cd = d2;
+                        uint cj = j;
+                        [[unroll]] for (uint t = 0u; t < kGraphMaxK; ++t) {
+                            bool before = cd < best_d[t] || (cd == best_d[t] && cj < best_j[t]);
+                            float td = best_d[t];
+                            uint tj = best_j[t];
+                            best_d[t] = before ? cd : td;
+                            best_j[t] = before ? cj : tj;
+                            cd = before ? td : cd;
+                            cj = before ? tj : cj;
                         }
-                        best_d[t] = d2;
-                        best_j[t] = j;
+                        [[unroll]] for (uint t = 0u; t < kGraphMaxK; ++t)
+                            if (t + 1u == k) worst_d = best_d[t], worst_j = best_j[t];
                         found = min(found + 1u, k);
                     }
                 }
             }
     float sum = 0.0;
-    for (uint t = 0u; t < k; ++t) {
+    [[unroll]] for (uint t = 0u; t < kGraphMaxK; ++t) {
+        if (t >= k) break;
         bool ok = t < found;
         nbr[i * k + t] = ok ? best_j[t] : kGraphNone;
         float d = ok ? sqrt(best_d[t]) : 0.0;

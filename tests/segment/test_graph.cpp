@@ -130,6 +130,67 @@ TEST_CASE("graph: thousands of Gaussians collapsed onto one point keep the neigh
     CHECK(away > domain.size() / 10);
 }
 
+TEST_CASE("graph: the adjacency is W + W^T with each pair once, every row in slot order, hubs included") {
+    // A random scene with hubs: 300 Gaussians parked at one point (as some exports park pruned
+    // ones) all list the same few of them (ties go to the smaller id), whose rows then receive
+    // hundreds of slots from the reverse half, placed by atomics in any order.
+    auto scene = ref::random_scene(41, 3000, 1);
+    const glm::vec3 point = scene.cloud.mean[0];
+    for (uint32_t i = 1; i <= 300; ++i) scene.cloud.mean[i * 7] = point;
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, scene.cloud);
+    seg::KnnGraph graph(ctx);
+    seg::GraphOptions o;
+    const auto domain = all_of(scene.cloud);
+    graph.build(gpu, scene.cloud, domain, o);
+    const uint32_t n = graph.nodes(), k = graph.k();
+    const auto nbr = graph.neighbours();
+    const auto w = graph.weights();
+    const seg::HostAdjacency& a = graph.host_adjacency();
+    REQUIRE(a.rows.size() == n + 1);
+    auto lists = [&](uint32_t i, uint32_t j) {
+        for (uint32_t t = 0; t < k; ++t)
+            if (nbr[size_t(i) * k + t] == j) return int(t);
+        return -1;
+    };
+    size_t most_reverse = 0, mismatches = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        // Expected row: own filled slots in order (a mutual pair weighs both slots), then the slots
+        // of nodes that list i and that i does not list, by slot id.
+        std::vector<std::pair<uint32_t, float>> want;
+        for (uint32_t t = 0; t < k; ++t) {
+            const uint32_t j = nbr[size_t(i) * k + t];
+            if (j == seg::gpu::kGraphNone) continue;
+            const int back = lists(j, i);
+            want.push_back({j, back < 0 ? w[size_t(i) * k + t] : w[size_t(i) * k + t] + w[size_t(j) * k + uint32_t(back)]});
+        }
+        size_t reverse = 0;
+        for (uint32_t slot = 0; slot < n * k; ++slot)
+            if (nbr[slot] == i && lists(i, slot / k) < 0) want.push_back({slot / k, w[slot]}), ++reverse;
+        most_reverse = std::max(most_reverse, reverse);
+        REQUIRE(a.rows[i + 1] - a.rows[i] == want.size());
+        float degree = 0;
+        for (size_t e = 0; e < want.size(); ++e) {
+            const uint32_t s = a.rows[i] + uint32_t(e);
+            mismatches += a.columns[s] != want[e].first || a.weights[s] != want[e].second;
+            degree += a.weights[s];
+        }
+        CHECK(a.degree[i] == Approx(degree).epsilon(1e-5));
+    }
+    CHECK(mismatches == 0);
+    CHECK(most_reverse >= 250);  // a hub's row
+    // Symmetric to the bit: A[i][j] == A[j][i].
+    size_t asymmetric = 0;
+    for (uint32_t i = 0; i < n; ++i)
+        for (uint32_t s = a.rows[i]; s < a.rows[i + 1]; ++s) {
+            const uint32_t j = a.columns[s];
+            bool found = false;
+            for (uint32_t e = a.rows[j]; e < a.rows[j + 1]; ++e) found |= a.columns[e] == i && a.weights[e] == a.weights[s];
+            asymmetric += !found;
+        }
+    CHECK(asymmetric == 0);
+}
+
 TEST_CASE("graph: the order a domain lists its Gaussians in changes no spacing, cell or neighbour") {
     // The segmenter numbers nodes in Morton order (for the passes' memory access), so the graph
     // must be the same graph whatever the numbering: the median spacing (hence the cell side
