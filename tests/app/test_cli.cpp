@@ -290,7 +290,7 @@ TEST_CASE("segment --decoder: the graph decoders on the bundled sample") {
     REQUIRE(u.code == 0);
     auto report = nlohmann::json::parse(pg::data::read_text_file(dir / "pred-graph" / "desk_000" / "report.json"));
     CHECK(report["graph"]["nodes"].get<size_t>() > 1000);
-    CHECK(report["graph"]["residual"].get<double>() <= 1e-2);  // the default --walk-tolerance
+    CHECK(report["graph"]["residual"].get<double>() <= 3e-2);  // the default --walk-tolerance
     CHECK(report["graph"]["solver"] == "walk+forest");
     // The walk leaves some nodes unsure; the forest labels them (flooded on the host: no rounds).
     CHECK(report["graph"]["forest_free"].get<size_t>() > 0);
