@@ -276,7 +276,9 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
                           node_groups);
             cmd_.dispatch("segment/walk_edges", {columns, graph.adjacency_weights(), seed_, rows, edge_weights_}, push[0],
                           vk::ceil_div(2ull * n * graph.k(), gpu::kGraphGroup));
-            cmd_.dispatch(walk_kernel("segment/walk_apply", labels), {rows, columns, edge_weights_, coupling_, seed_, x_, ap_, partials_}, push[0], node_groups);
+            // A x of a start that is 0 on every unknown node (no start, no prior) is 0: no product.
+            if (!started && pr.prior.empty()) cmd_.fill(ap_, 0, 0, bytes);
+            else cmd_.dispatch(walk_kernel("segment/walk_apply", labels), {rows, columns, edge_weights_, coupling_, seed_, x_, ap_, partials_}, push[0], node_groups);
             cmd_.dispatch(walk_kernel("segment/walk_residual", labels), {b_, ap_, inv_diag_, r_, z_, p_, partials_}, push[3], node_groups);
             cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[3], reduce_groups);
             cmd_.end_pass();
