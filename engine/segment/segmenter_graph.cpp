@@ -215,7 +215,7 @@ NodeLabels walk_then_forest(SeededForest& forest, const KnnGraph& graph, std::ve
         // Between two objects the walk's label stands: neighbours that look alike (terraced houses
         // sharing a wall and a colour scheme) tie on widest paths, which the edge order then
         // decides, while the walk splits them by how far each click is (fresh seeds 6201, 6202,
-        // 7301, 8811: residence 3D IoU +5.3 to +8.3 points, desk -3.2 to +1.9, sum of desk +0.1).
+        // 7301, 8811: residence 3D IoU +5.2 to +8.3 points, desk -3.2 to +1.9, their sum -0.1).
         if (w.arg[i] > 0 && out.label[i] > 0) out.label[i] = w.arg[i];
         out.confidence[i] = w.arg[i] == out.label[i] ? w.share[i] : 0.5f;
     }
