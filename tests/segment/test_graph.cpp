@@ -28,6 +28,17 @@ std::vector<uint32_t> all_of(const data::GaussianCloud& cloud) {
     return d;
 }
 
+// A scene on the device and its graph over every Gaussian, in scene order.
+struct SceneGraph {
+    render::GpuScene gpu;
+    seg::KnnGraph graph;
+    std::vector<uint32_t> domain;
+    explicit SceneGraph(const data::GaussianCloud& cloud, const seg::GraphOptions& o = {})
+        : gpu(test::gpu(), cloud), graph(test::gpu()), domain(all_of(cloud)) {
+        graph.build(gpu, cloud, domain, o);
+    }
+};
+
 // The GPU's graph as the CPU references take it, so they solve the very same system.
 ref::RefGraph as_reference(const seg::KnnGraph& graph) {
     ref::RefGraph rg;
@@ -106,12 +117,10 @@ TEST_CASE("graph: thousands of Gaussians collapsed onto one point keep the neigh
     const uint32_t collapsed = 6000;
     REQUIRE(collapsed > seg::gpu::kGraphMaxScan);  // the cap is reached
     for (uint32_t i = 0; i < collapsed; ++i) scene.cloud.mean[i * 3 / 2] = point;  // two of every three
-    auto& ctx = test::gpu();
-    render::GpuScene gpu(ctx, scene.cloud);
-    seg::KnnGraph graph(ctx);
-    seg::GraphOptions o;
-    const auto domain = all_of(scene.cloud);
-    graph.build(gpu, scene.cloud, domain, o);
+    const seg::GraphOptions o;
+    const SceneGraph sg(scene.cloud, o);
+    const auto& graph = sg.graph;
+    const auto& domain = sg.domain;
     const auto got = graph.neighbours();
     const size_t k = o.k;
     auto nodes = ref::graph_nodes(scene.cloud, domain);
@@ -137,12 +146,8 @@ TEST_CASE("graph: the adjacency is W + W^T with each pair once, every row in slo
     auto scene = ref::random_scene(41, 3000, 1);
     const glm::vec3 point = scene.cloud.mean[0];
     for (uint32_t i = 1; i <= 300; ++i) scene.cloud.mean[i * 7] = point;
-    auto& ctx = test::gpu();
-    render::GpuScene gpu(ctx, scene.cloud);
-    seg::KnnGraph graph(ctx);
-    seg::GraphOptions o;
-    const auto domain = all_of(scene.cloud);
-    graph.build(gpu, scene.cloud, domain, o);
+    const SceneGraph sg(scene.cloud);
+    const auto& graph = sg.graph;
     const uint32_t n = graph.nodes(), k = graph.k();
     const auto nbr = graph.neighbours();
     const auto w = graph.weights();
@@ -222,11 +227,9 @@ TEST_CASE("graph: the order a domain lists its Gaussians in changes no spacing, 
 TEST_CASE("random walker: the GPU's conjugate gradient matches Eigen's on the same systems") {
     auto scene = ref::random_scene(22, 1500, 0);
     auto& ctx = test::gpu();
-    render::GpuScene gpu(ctx, scene.cloud);
-    seg::KnnGraph graph(ctx);
-    seg::GraphOptions go;
-    auto domain = all_of(scene.cloud);
-    graph.build(gpu, scene.cloud, domain, go);
+    const SceneGraph sg(scene.cloud);
+    const auto& graph = sg.graph;
+    const auto& domain = sg.domain;
     const auto rg = as_reference(graph);
     seg::RandomWalker walker(ctx);
     seg::WalkOptions wo;
@@ -269,10 +272,9 @@ TEST_CASE("random walker: the GPU's conjugate gradient matches Eigen's on the sa
 TEST_CASE("seeded forest: the GPU's widest-path rounds and the host's flood give Kruskal's seeded maximum spanning forest") {
     auto scene = ref::random_scene(23, 2000, 0);
     auto& ctx = test::gpu();
-    render::GpuScene gpu(ctx, scene.cloud);
-    seg::KnnGraph graph(ctx);
-    auto domain = all_of(scene.cloud);
-    graph.build(gpu, scene.cloud, domain, seg::GraphOptions{});
+    const SceneGraph sg(scene.cloud);
+    const auto& graph = sg.graph;
+    const auto& domain = sg.domain;
     const auto rg = as_reference(graph);
     seg::SeededForest forest(ctx);
     ref::Rng rng(6);
