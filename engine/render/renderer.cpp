@@ -174,7 +174,10 @@ bool Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, co
         values_.ensure(uint64_t(capacity_) * 4);
         auto params = frame_params(camera, settings, n, scene.sh_words(), scene.sh_degree(), capacity_, group_limit,
                                    palette_size);
-        params.capacity.w = flags | (scene.half_sh() ? gpu::kFrameHalfSh : 0u);
+        const glm::uvec4 win = params.window;
+        const bool one_tile = win.z > win.x && win.w > win.y && win.x / gpu::kTileSize == (win.z - 1) / gpu::kTileSize &&
+                              win.y / gpu::kTileSize == (win.w - 1) / gpu::kTileSize;
+        params.capacity.w = flags | (scene.half_sh() ? gpu::kFrameHalfSh : 0u) | (one_tile ? gpu::kFrameDepthKeys : 0u);
         cmd_.update(frame_, &params, sizeof(params));
         if (style && slab) {
             // The slab's labels, gathered from the scene's by the slab's ids.
@@ -189,8 +192,11 @@ bool Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, co
                       vk::ceil_div(n, 256));
         // Two stable sorts give the tile-major, front-to-back order of a 64-bit tile|depth sort
         // with about half the work: Gaussians by depth once, then keys by tile id alone.
-        cmd_.begin_pass("depth sort");
-        sort_.sort(cmd_, depth_keys_, order_, n, 32, sort::KeyWidth::Bits32);
+        // One tile's list needs no sort of every Gaussian: its few keys are sorted by depth below.
+        if (!one_tile) {
+            cmd_.begin_pass("depth sort");
+            sort_.sort(cmd_, depth_keys_, order_, n, 32, sort::KeyWidth::Bits32);
+        }
         cmd_.begin_pass("scan");
         cmd_.dispatch("render/gather_touched", {frame_, order_, touched_, touched_sorted_}, vk::ceil_div(n, 256));
         scan_.exclusive(cmd_, touched_sorted_, offsets_, n, &counters_, 0);
@@ -198,7 +204,8 @@ bool Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, co
         cmd_.dispatch("render/emit_keys", {frame_, splats_, order_, touched_sorted_, offsets_, rects_, keys_, values_},
                       vk::ceil_div(n, 256));
         cmd_.begin_pass("tile sort");
-        sort_.sort_indirect(cmd_, keys_, values_, counters_, 0, capacity_, tile_bits, sort::KeyWidth::Bits32);
+        sort_.sort_indirect(cmd_, keys_, values_, counters_, 0, capacity_, one_tile ? 32 : tile_bits,
+                            sort::KeyWidth::Bits32);
         cmd_.begin_pass("ranges");
         cmd_.fill(ranges_, 0);
         const vk::gpu::IndirectArgsPush args{0, 256, group_limit, 0, capacity_};
@@ -209,7 +216,7 @@ bool Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, co
         // A frame of at most kTileWindow Gaussians cannot hold more keys in one tile; a larger one
         // plans with the last frame's longest list and is drawn again below if that was short.
         windows_ = n <= gpu::kTileWindow ? 1 : std::max<uint32_t>(1, vk::ceil_div(longest_tile_, gpu::kTileWindow));
-        record_tile_passes(n, flags, carry_in, carry_out, after_slab);
+        if (!settings.lists_only) record_tile_passes(n, flags, carry_in, carry_out, after_slab);
         cmd_.submit_and_wait();
         add_timings();
         const auto counts = vk::download_vector<uint32_t>(ctx_, counters_, 2);
@@ -220,6 +227,7 @@ bool Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, co
             const uint32_t needed = std::max<uint32_t>(1, vk::ceil_div(longest_tile_, gpu::kTileWindow));
             if (needed > windows_) {
                 windows_ = needed;
+                if (settings.lists_only) break;
                 record_tile_passes(n, flags, carry_in, carry_out, after_slab);
                 cmd_.submit_and_wait();
                 add_timings();

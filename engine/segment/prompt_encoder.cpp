@@ -31,6 +31,7 @@ Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, con
     // Only what reaches the pixel is drawn: a fraction of a frame's tile keys, and a streamed
     // scene's one slab, whatever the scene's size.
     s.window = glm::ivec4(px, py, px + 1, py + 1);
+    s.lists_only = true;  // the pick walks the pixel's tile list itself
     renderer.render(scene, camera, s);
     const render::PixelPick pick = renderer.pick(px, py);
     if (!(pick.opacity >= kMinLiftCoverage))

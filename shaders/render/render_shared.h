@@ -34,6 +34,9 @@ PG_CONST uint kBlendFinal = 2u;
 PG_CONST uint kBlendSlabIds = 4u;
 // Frame flag beside the blend flags: SH coefficients are fp16 pairs (packHalf2x16 words).
 PG_CONST uint kFrameHalfSh = 8u;
+// The window lies in one tile: keys are view depths (emit_keys) sorted once, with no depth sort of
+// all Gaussians before, and that tile's run is all of them (tile_ranges). A click's lift.
+PG_CONST uint kFrameDepthKeys = 16u;
 PG_CONST uint kCarryWords = 12u;  // uints per pixel of carried state
 PG_CONST uint kLabelCarryWords = 20u;  // the same for the label rasterizers
 // Passes that walk a tile's list (blend, the label rasterizers, pick) take at most kTileWindow
@@ -58,7 +61,7 @@ struct FrameParams {
     uvec4 size;         // width, height, tiles_x, tiles_y
     uvec4 scene;        // gaussian count, SH words per Gaussian (floats, or fp16 pairs), SH degree used, antialiased
     uvec4 capacity;     // x: key capacity, y: device group-count limit, z: style palette size (0: no style),
-                        // w: flags (kBlendResume | kBlendFinal | kBlendSlabIds | kFrameHalfSh)
+                        // w: flags (kBlendResume | kBlendFinal | kBlendSlabIds | kFrameHalfSh | kFrameDepthKeys)
     uvec4 window;       // pixels x0, y0 (inclusive) to x1, y1 (exclusive) the frame must draw: the
                         // whole image, or a click's pixel (what reaches no pixel in it is culled)
 };
