@@ -142,6 +142,9 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     j["device"] = ctx.info().name;
     j["gaussians"] = cloud.size();
     j["roi_gaussians"] = result.objects.front().roi_gaussians;
+    // The graph decoders' cost follows the domain: the ROI columns at the largest scale and the margin.
+    const size_t domain = result.graph ? result.graph->domain : 0;
+    if (result.graph) j["graph_domain_nodes"] = domain;
     j["view"] = {cam->name, cam->width, cam->height};
     for (auto& [k, v] : click_ms) j["click_ms"][k] = median(v);
     j["click_ms"]["wall"] = median(click_total);
@@ -159,9 +162,10 @@ void run_bench_segment(const BenchSegmentArgs& a) {
         std::printf("%s\n", j.dump(2).c_str());
         return;
     }
-    std::printf("device %s, %zu Gaussians, ROI %zu, view %s %dx%d, median of %d\n\n", ctx.info().name.c_str(),
-                cloud.size(), result.objects.front().roi_gaussians, cam->name.c_str(), cam->width, cam->height,
-                a.repeats);
+    const std::string graph_nodes = result.graph ? ", graph domain " + std::to_string(domain) : "";
+    std::printf("device %s, %zu Gaussians, ROI %zu%s, view %s %dx%d, median of %d\n\n", ctx.info().name.c_str(),
+                cloud.size(), result.objects.front().roi_gaussians, graph_nodes.c_str(), cam->name.c_str(), cam->width,
+                cam->height, a.repeats);
     // The first run (cold: pipelines, buffers, the graph built, a solve from scratch) beside the
     // repeats' medians (warm: what a further click on the same objects costs) and a first click
     // once the pipelines exist (new domain, median of the repeats: the graph built, a solve from scratch).

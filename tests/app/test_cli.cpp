@@ -160,6 +160,26 @@ TEST_CASE("orbit writes cameras that see the scene, and bench prints JSON") {
     CHECK(j["peak_device_bytes"].get<double>() > 0.0);
 }
 
+TEST_CASE("bench segment times a first, a new-domain and a further click of the graph decoder") {
+    auto b = run("bench segment " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json --prompts " + sample() +
+                 "/prompts.json --decoder graph --repeats 1 --json");
+    INFO(b.out);
+    REQUIRE(b.code == 0);
+    auto j = nlohmann::json::parse(b.out);
+    const auto roi = j["roi_gaussians"].get<size_t>();
+    CHECK(roi > 0);
+    CHECK(j["graph_domain_nodes"].get<size_t>() >= roi);
+    CHECK(j["graph_domain_nodes"].get<size_t>() <= j["gaussians"].get<size_t>());
+    for (const char* column : {"first_click_ms", "new_domain_click_ms"}) {
+        CHECK(j[column]["lift clicks"].get<double>() > 0.0);
+        CHECK(j[column]["graph build"].get<double>() > 0.0);
+        CHECK(j[column]["graph walk"].get<double>() > 0.0);
+    }
+    // A further click on the same objects reuses their graph.
+    CHECK(j["click_ms"]["graph build"].get<double>() < 0.1 * j["new_domain_click_ms"]["graph build"].get<double>());
+    CHECK(j["view_gpu_ms"]["label raster"].get<double>() > 0.0);
+}
+
 TEST_CASE("bench train prints the step's ops, with the Lovasz loss when asked") {
     for (const char* lovasz : {"0", "1"}) {
         auto b = run(std::string("bench train --config tiny --points 600 --repeats 1 --warmup 0 --json --lovasz ") + lovasz);
