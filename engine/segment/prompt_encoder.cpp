@@ -79,10 +79,12 @@ PromptEncoder::PromptEncoder(vk::Context& ctx)
       means_window_(ctx, 0, vk::MemoryUse::Device, "centres (chunk)") {}
 
 EncodedPrompt PromptEncoder::encode(const render::GpuScene& scene, const std::vector<Anchor>& anchors, double sigma,
-                                    const RoiBox& roi) {
+                                    const RoiBox& roi, const std::vector<uint32_t>* candidates) {
     if (!(sigma > 0)) throw data::InputError("sigma", "must be positive");
     if (!(roi.length > 0 && roi.width > 0)) throw data::InputError("roi", "length and width must be positive");
-    const uint32_t n = scene.size();
+    // The Gaussians looked at: the candidates (a superset of the ROI column, ascending), or all.
+    const uint32_t n = candidates ? uint32_t(candidates->size()) : scene.size();
+    if (n == 0) return {};
     std::vector<glm::vec4> a;
     for (auto& anchor : anchors) a.push_back(glm::vec4(glm::vec3(anchor.position), anchor.positive ? 1.0f : -1.0f));
     anchors_.ensure(a.size() * sizeof(glm::vec4));
@@ -103,19 +105,20 @@ EncodedPrompt PromptEncoder::encode(const render::GpuScene& scene, const std::ve
                                glm::vec4(glm::vec3(roi.length_axis), 0),
                                glm::vec4(glm::vec3(roi.width_axis), 0)};
     cmd_.begin_pass("click weights");
-    if (!scene.streamed()) {
+    if (!candidates && !scene.streamed()) {
         cmd_.dispatch("segment/click_weights", {scene.means, anchors_, weights_, flags_}, push,
                       vk::ceil_div(n, gpu::kPromptGroup));
     } else {
-        // A streamed scene's centres a chunk at a time; each chunk waits for the last to be read.
-        const uint32_t chunk = scene.chunk();
+        // The candidates' or a streamed scene's centres from the host, a chunk at a time (a
+        // resident scene's candidates at once); each chunk waits for the last to be read.
+        const uint32_t chunk = scene.streamed() ? scene.chunk() : n;
         means_window_.ensure(uint64_t(std::min(chunk, n)) * 16);
         std::vector<glm::vec4> m;
         const auto& cloud = scene.cloud();
         for (uint32_t off = 0; off < n; off += chunk) {
             const uint32_t c = std::min(chunk, n - off);
             m.resize(c);
-            for (uint32_t i = 0; i < c; ++i) m[i] = render::device_mean(cloud, off + i);
+            for (uint32_t i = 0; i < c; ++i) m[i] = render::device_mean(cloud, candidates ? (*candidates)[off + i] : off + i);
             vk::upload(ctx_, means_window_, m.data(), uint64_t(c) * 16);
             gpu::ClickWeightsPush part = push;
             part.count = c;
@@ -138,6 +141,8 @@ EncodedPrompt PromptEncoder::encode(const render::GpuScene& scene, const std::ve
     uint32_t count = vk::download_vector<uint32_t>(ctx_, total_, 1)[0];
     out.indices = vk::download_vector<uint32_t>(ctx_, indices_, count);
     out.weights = vk::download_vector<glm::vec2>(ctx_, roi_weights_, count);
+    if (candidates)
+        for (auto& i : out.indices) i = (*candidates)[i];
     return out;
 }
 

@@ -50,8 +50,10 @@ class PromptEncoder {
 public:
     explicit PromptEncoder(vk::Context& ctx);
     // Records and runs the weights + ROI passes; the host waits once, for the ROI's size.
+    // `candidates`: ascending Gaussian ids that hold every one in the ROI column (ColumnIndex),
+    // so the passes cost the column, not the scene; null: every Gaussian.
     EncodedPrompt encode(const render::GpuScene& scene, const std::vector<Anchor>& anchors, double sigma,
-                         const RoiBox& roi);
+                         const RoiBox& roi, const std::vector<uint32_t>* candidates = nullptr);
     const std::vector<vk::PassTiming>& timings() const { return timings_; }
 
 private:

@@ -63,6 +63,12 @@ double Segmenter::scale_from_cameras(const glm::dvec3& target) const {
     return std::max(1e-6, 0.25 * d[d.size() / 2]);
 }
 
+const ColumnIndex& Segmenter::columns(const RoiBox& roi) {
+    if (!columns_ || !columns_->has_axes(roi.length_axis, roi.width_axis))
+        columns_.emplace(cloud_, roi.length_axis, roi.width_axis);
+    return *columns_;
+}
+
 Anchor Segmenter::anchor_for(const data::PromptClick& click, const SegmentOptions& o, const std::string& what) {
     const render::RenderSettings& settings = o.render;
     if (click.point) return anchor_at_point(cloud_, *click.point, click.positive);
@@ -137,7 +143,8 @@ void Segmenter::prepare(const data::ObjectPrompt& prompt, size_t index, const st
     obj.roi.width = o.roi_width > 0 ? o.roi_width : 2.5 * scale;
 
     t0 = Clock::now();
-    EncodedPrompt encoded = encoder_.encode(scene_, obj.anchors, obj.sigma, obj.roi);
+    const auto candidates = columns(obj.roi).candidates(obj.roi.centre, obj.roi.length / 2, obj.roi.width / 2);
+    EncodedPrompt encoded = encoder_.encode(scene_, obj.anchors, obj.sigma, obj.roi, &candidates);
     result.stage_ms["encode + roi"] += ms_since(t0);
     obj.roi_gaussians = encoded.indices.size();
     if (encoded.indices.empty())

@@ -20,6 +20,7 @@
 #include "dataset/prompts.h"
 #include "engine/render/renderer.h"
 #include "engine/segment/cancel.h"
+#include "engine/segment/column_index.h"
 #include "engine/segment/decoder.h"
 #include "engine/segment/knn_graph.h"
 #include "engine/segment/prompt_encoder.h"
@@ -243,6 +244,9 @@ private:
                            const std::vector<uint32_t>& root, const std::vector<uint8_t>& seeded,
                            const WalkProblem& pr, LabelColumns& x) const;
     Anchor anchor_for(const data::PromptClick& click, const SegmentOptions& o, const std::string& what);
+    // The scene's Gaussians binned across up in the ROI's axes (made on the first click, and
+    // again only if the axes change).
+    const ColumnIndex& columns(const RoiBox& roi);
 
     vk::Context& ctx_;
     const data::GaussianCloud& cloud_;
@@ -257,6 +261,7 @@ private:
     std::vector<uint32_t> graph_domain_;  // the domain graph_ was built over, and with which options
     GraphOptions graph_built_with_;
     std::optional<NodeGrid> node_grid_;   // over graph_'s nodes, made once per graph
+    std::optional<ColumnIndex> columns_;
     // Per ROI scale, the last walk's answer (a column per label id in ids, 0: background), for
     // warm starts: a scale starts from its own last answer, never from another scale's.
     std::map<double, WarmStart> warm_;
