@@ -17,13 +17,25 @@ constexpr uint32_t kMaxSide = 4096;
 ColumnIndex::ColumnIndex(const data::GaussianCloud& cloud, const glm::dvec3& a, const glm::dvec3& b) : a_(a), b_(b) {
     const size_t n = cloud.size();
     std::vector<glm::dvec2> uv(n);
-    glm::dvec2 hi(0.0);
     for (size_t i = 0; i < n; ++i) {
         const glm::dvec3 p(cloud.mean[i]);
         uv[i] = glm::dvec2(glm::dot(p, a), glm::dot(p, b));
         if (!std::isfinite(uv[i].x) || !std::isfinite(uv[i].y)) uv[i] = glm::dvec2(0.0);
-        lo_ = i == 0 ? uv[i] : glm::min(lo_, uv[i]);
-        hi = i == 0 ? uv[i] : glm::max(hi, uv[i]);
+    }
+    // The grid spans the bulk of the scene (0.5 % to 99.5 % along each axis): a capture's far
+    // floaters and sky would otherwise stretch it until its core fills a few cells. What lies
+    // past it is binned into the border cells, which every query reaching past the grid takes.
+    glm::dvec2 hi(0.0);
+    if (n > 0) {
+        std::vector<double> q(n);
+        for (int axis = 0; axis < 2; ++axis) {
+            for (size_t i = 0; i < n; ++i) q[i] = uv[i][axis];
+            const size_t k0 = n / 200, k1 = n - 1 - n / 200;
+            std::nth_element(q.begin(), q.begin() + long(k0), q.end());
+            lo_[axis] = q[k0];
+            std::nth_element(q.begin(), q.begin() + long(k1), q.end());
+            hi[axis] = q[k1];
+        }
     }
     const glm::dvec2 extent = glm::max(hi - lo_, glm::dvec2(1e-9));
     cell_ = std::max(std::sqrt(extent.x * extent.y * kPerCell / double(std::max<size_t>(n, 1))), 1e-9);
@@ -52,8 +64,7 @@ std::vector<uint32_t> ColumnIndex::candidates(const glm::dvec3& centre, double h
     const double x0 = (c.x - half_a - slack - lo_.x) / cell_, x1 = (c.x + half_a + slack - lo_.x) / cell_;
     const double y0 = (c.y - half_b - slack - lo_.y) / cell_, y1 = (c.y + half_b + slack - lo_.y) / cell_;
     std::vector<uint32_t> out;
-    // Every centre lies in [0, nx] x [0, ny] in cell units (the last row and column hold the far edge).
-    if (!(x1 >= 0.0 && y1 >= 0.0 && x0 <= double(nx_) && y0 <= double(ny_))) return out;
+    if (!(x0 <= x1 && y0 <= y1)) return out;  // NaN
     const uint32_t cx0 = uint32_t(std::clamp(std::floor(x0), 0.0, double(nx_ - 1)));
     const uint32_t cx1 = uint32_t(std::clamp(std::floor(x1), 0.0, double(nx_ - 1)));
     const uint32_t cy0 = uint32_t(std::clamp(std::floor(y0), 0.0, double(ny_ - 1)));
