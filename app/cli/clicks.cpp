@@ -232,9 +232,11 @@ void run_clicks(const ClicksArgs& a) {
         report["total_ms"] = ms_since(scene_start);
         fs::create_directories(staged.dir() / name);
         data::write_atomically(staged.dir() / name / "clicks.json", [&](std::ostream& os) { os << report.dump(2) << "\n"; });
-        if (!isatty(2) || std::getenv("CI"))  // a log line per scene where no progress line shows
+        if (!isatty(2) || std::getenv("CI")) {  // a log line per scene where no progress line shows
             std::printf("%s: %zu object(s), %zu click(s), %.1f s\n", name.c_str(), objects.size(),
                         clicks_total - clicks_before, ms_since(scene_start) / 1000.0);
+            std::fflush(stdout);  // as it happens, also into a log file
+        }
     }
     staged.commit();
 

@@ -162,6 +162,7 @@ void run_synth(const SynthArgs& a) {
                                 100.0 * c["rendered_agreement"].get<double>());
                 std::printf("\n");
             }
+            std::fflush(stdout);  // as it happens, also into a log file
         }
     }
     progress.finish();
