@@ -227,10 +227,11 @@ bool Renderer::render_slab(const GpuScene& scene, const data::Camera& camera, co
             const uint32_t needed = std::max<uint32_t>(1, vk::ceil_div(longest_tile_, gpu::kTileWindow));
             if (needed > windows_) {
                 windows_ = needed;
-                if (settings.lists_only) break;
-                record_tile_passes(n, flags, carry_in, carry_out, after_slab);
-                cmd_.submit_and_wait();
-                add_timings();
+                if (!settings.lists_only) {
+                    record_tile_passes(n, flags, carry_in, carry_out, after_slab);
+                    cmd_.submit_and_wait();
+                    add_timings();
+                }
             }
             break;
         }

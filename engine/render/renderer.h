@@ -30,8 +30,8 @@ struct RenderSettings {
     // reach them is culled (a streamed scene's slabs too), and other pixels may hold anything.
     // Empty (x1 <= x0): the whole image. A click's lift draws its pixel alone.
     glm::ivec4 window{0};
-    // Bin the Gaussians into tile lists and skip the blend: the image outputs hold anything, but
-    // pick() and passes that walk the lists (tile_values, tile_ranges) work.
+    // Bin the Gaussians into tile lists and skip the blend (and the slab hook): the image outputs
+    // hold anything, but pick() and passes that walk the lists (tile_values, tile_ranges) work.
     bool lists_only = false;
 };
 
