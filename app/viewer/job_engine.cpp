@@ -16,6 +16,7 @@
 #include "engine/compress/sog_quantizer.h"
 #include "engine/segment/export.h"
 #include "engine/segment/prompt_encoder.h"
+#include "engine/segment/warm_up.h"
 #include "engine/vk/context.h"
 
 namespace pg::viewer {
@@ -24,6 +25,8 @@ namespace fs = std::filesystem;
 
 JobEngine::JobEngine(vk::Context& ctx, const SceneData& scene, const render::GpuScene& gpu_scene)
     : ctx_(ctx), scene_(scene), gpu_scene_(gpu_scene), lift_renderer_(ctx) {}
+
+void JobEngine::warm_up() { seg::warm_up(ctx_, scene_.options); }
 
 seg::Anchor JobEngine::lift(const data::Camera& camera, double u, double v, bool positive) {
     return seg::lift_click(lift_renderer_, gpu_scene_, camera, u, v, positive, scene_.options.render,

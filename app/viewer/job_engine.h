@@ -48,6 +48,8 @@ class JobEngine {
 public:
     JobEngine(vk::Context& ctx, const SceneData& scene, const render::GpuScene& gpu_scene);
 
+    // Builds the pipelines a graph click uses (seg::warm_up), so the first click costs what a later one does.
+    void warm_up();
     // A click at pixel (u, v) of `camera` -> where it lands; InputError when it hits nothing.
     seg::Anchor lift(const data::Camera& camera, double u, double v, bool positive);
     // A prompts.json click (in a view of the scene, or a 3D point) -> where it lands.

@@ -92,6 +92,15 @@ void Viewer::open(const ViewerOptions& options) {
     inbox_.wake = [] { glfwPostEmptyEvent(); };
     frames_ = std::make_unique<Worker>(true);
     jobs_ = std::make_unique<Worker>(false);
+    // The segmentation pipelines are built now, while the user looks at the first frames, not
+    // on the first click (see warm_up.h).
+    jobs_->post([this] {
+        try {
+            job_engine_->warm_up();
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "viewer: warming up the segmentation pipelines failed: %s\n", e.what());
+        }
+    });
     if (!options.prompts.empty()) load_prompts(options.prompts);
     render_scale_ = options.render_scale > 0 ? options.render_scale
                                              : (ctx_->info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 0.5 : 1.0);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "dataset/clicks/kd_tree.h"
 #include "dataset/error.h"
@@ -39,6 +40,13 @@ float spacing_of(const std::vector<glm::vec3>& p, const std::vector<uint32_t>& d
     std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
     double m = d[d.size() / 2];
     return m > 0 && std::isfinite(m) ? float(m) : 1e-6f;
+}
+
+// The kNN search built for the shortest neighbour lists that hold k (shaders/CMakeLists.txt).
+std::string knn_kernel(uint32_t k) {
+    for (uint32_t bound : {4u, 6u, 8u, 10u, 12u})
+        if (k <= bound) return "segment/graph_knn_k" + std::to_string(bound);
+    return "segment/graph_knn_k" + std::to_string(gpu::kGraphMaxK);
 }
 
 }  // namespace
@@ -166,7 +174,7 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     scan_.exclusive(cmd_, row_start_, row_start_, grid_rows + 1);
     cmd_.dispatch("segment/graph_sorted", {pos_, values_, sorted_}, grid, graph_groups(n));
     cmd_.begin_pass("graph knn");
-    cmd_.dispatch("segment/graph_knn", {sorted_, keys_, row_start_, nbr_, dist_, spacing_}, grid, graph_groups(n));
+    cmd_.dispatch(knn_kernel(k), {sorted_, keys_, row_start_, nbr_, dist_, spacing_}, grid, graph_groups(n));
     cmd_.begin_pass("graph weights");
     cmd_.dispatch("segment/graph_weights", {pos_, colour_, normal_, nbr_, dist_, spacing_, weight_}, wpush, graph_groups(nk));
     // W + W^T with each pair once: a row is the node's own slots (already grouped) and the slots

@@ -335,6 +335,13 @@ ComputePipeline& Context::pipeline(const std::string& shader, uint32_t buffer_co
     return *slot;
 }
 
+std::vector<std::string> Context::pipeline_names() {
+    std::lock_guard lock(pipelines_mutex_);
+    std::vector<std::string> names;
+    for (auto& [name, p] : pipelines_) names.push_back(name);
+    return names;
+}
+
 const char* result_name(VkResult r) {
     switch (r) {
         case VK_SUCCESS: return "VK_SUCCESS";

@@ -75,6 +75,7 @@ public:
 
     // Pipelines are built once per shader name and kept for the context's life.
     ComputePipeline& pipeline(const std::string& shader, uint32_t buffer_count, uint32_t push_bytes);
+    std::vector<std::string> pipeline_names();  // those built so far, sorted
 
     // The queue is shared by every thread (the viewer renders and segments at once): hold this
     // around vkQueueSubmit and vkQueuePresentKHR.
