@@ -189,7 +189,10 @@ void run_segment(const SegmentArgs& args) {
                 jo["roi_scales"].push_back({{"scale", scale}, {"boundary_contrast", contrast}, {"claimed", claimed}});
         }
         if (!obj.error.empty()) jo["error"] = obj.error;
-        if (graph_use == seg::GraphUse::Unary) jo["network_prior"] = obj.network_trusted;
+        if (graph_use == seg::GraphUse::Unary) {
+            jo["network_prior"] = obj.network_trusted;
+            jo["network_answer"] = obj.network_answer;
+        }
         // fallback: the click's pixel never reached tau (under --lift tau it lifted at tau x its final
         // opacity, coverage).
         for (auto& an : obj.anchors)
@@ -275,7 +278,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--graph-distance", a->graph.distance, "Graph: distance fall-off in local spacings")->capture_default_str();
     cmd->add_option("--graph-max-nodes", a->graph_max_nodes, "Graph: most nodes one graph holds (0: what the device's largest binding allows); a larger domain is solved on every n-th Gaussian, the rest labelled as their nearest solved one")->capture_default_str();
     cmd->add_option("--graph-margin", a->margin, "Graph: the solve's domain is the largest scaled ROIs widened by this fraction per side; what lies in the margin seeds the background")->capture_default_str();
-    cmd->add_option("--graph-scales", a->scales, "Graph: the background's boundary at each object's ROI scaled by each of these, one solve each; per object the smallest scale's answer stands unless a larger one's boundary contrast is below --graph-scale-ratio times its own; ptv3+graph solves the largest only")->delimiter(',')->capture_default_str();
+    cmd->add_option("--graph-scales", a->scales, "Graph: the background's boundary at each object's ROI scaled by each of these, one solve each; per object the smallest scale's answer stands unless a larger one's boundary contrast is below --graph-scale-ratio times its own; ptv3+graph then solves the largest once more with the network's prior, whose answer stands per object where its boundary contrast is no higher than the chosen one's")->delimiter(',')->capture_default_str();
     cmd->add_option("--graph-scale-ratio", a->scale_ratio, "Graph: how much weaker (mean cut edge weight over mean inside edge weight) a larger ROI's boundary must be to win")->capture_default_str();
     cmd->add_option("--unary", a->unary, "ptv3+graph: strength of the network's probabilities, in units of a Gaussian's degree")->capture_default_str();
     cmd->add_option("--unary-confidence", a->unary_confidence, "ptv3+graph: the network's probabilities count only where its most likely label reaches this")->capture_default_str();

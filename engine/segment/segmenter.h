@@ -106,6 +106,9 @@ struct ObjectResult {
     // ptv3+graph: whether the network's probabilities were used (it agreed with the object's
     // clicks: P(foreground) > 1/2 at its positive clicks on average).
     bool network_trusted = false;
+    // ptv3+graph: whether the answer solved with the network's prior stood (its boundary cut the
+    // graph no harder than the graph alone's answer did; see solve_graph), not the graph's own.
+    bool network_answer = false;
     size_t fallback_clicks() const;
 };
 

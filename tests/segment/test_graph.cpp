@@ -629,3 +629,46 @@ TEST_CASE("graph decoder: a cold solve hands over a coarse answer first, and a c
     const auto again = second.segment(p, o);
     CHECK(again.labels == full.labels);
 }
+
+TEST_CASE("ptv3+graph: the network's answer stands where it cuts the graph no harder than the graph's own") {
+    auto s = balls_scene();
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, s.cloud);
+    data::Prompts p = left_and_middle();
+    seg::SegmentOptions o = balls_options();
+    o.graph = seg::GraphUse::Unary;
+    o.graph_scales = {1.0};
+    {
+        // A leaky graph (the walk alone at colour contrast 3 floods the floor from one click):
+        // a network that knows the balls cuts them at their colour edge, a cleaner cut than the
+        // graph's through the even floor, so its answer stands.
+        o.solver = seg::GraphSolver::Walk;
+        seg::GroundTruthDecoder network(s.ball);
+        seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras, network);
+        auto alone = o;
+        alone.graph = seg::GraphUse::Alone;
+        const auto graph = segmenter.segment(p, alone);
+        CHECK(iou(graph.labels, 1, s.ball, 1) < 0.9);
+        const auto r = segmenter.segment(p, o);
+        CHECK(r.objects[0].network_answer);
+        CHECK(r.objects[0].network_trusted);
+        CHECK(iou(r.labels, 1, s.ball, 1) > 0.95);
+        CHECK(iou(r.labels, 2, s.ball, 2) > 0.95);
+    }
+    {
+        // A network that takes only the left ball's top half (a cut through its even colour) while
+        // the graph finds the ball whole at its colour edge: the graph's answer stands for it.
+        o.solver = seg::GraphSolver::WalkForest;
+        o.graph_options.colour = 10.0f;
+        std::vector<int32_t> half = s.ball;
+        for (size_t i = 0; i < half.size(); ++i)
+            if (half[i] == 1 && s.cloud.mean[i].y > -0.26f) half[i] = 0;
+        seg::GroundTruthDecoder network(half);
+        seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras, network);
+        const auto r = segmenter.segment(p, o);
+        CHECK_FALSE(r.objects[0].network_answer);
+        CHECK(r.objects[0].network_trusted);
+        CHECK(iou(r.labels, 1, s.ball, 1) > 0.9);
+        CHECK(iou(r.labels, 2, s.ball, 2) > 0.9);
+    }
+}
