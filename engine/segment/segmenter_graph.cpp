@@ -347,21 +347,26 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
             for (auto [g, p] : objects[j]->claims) label[size_t(d.node_of[g])] = int32_t(j + 1);
         return boundary_contrast(graph_.host_adjacency(), label, uint32_t(objects.size() + 1));
     };
-    for (size_t f = 0; f < scales.size(); ++f) {
-        // Each scale moves only the margin's background seeds; its walk starts from its own last answer
-        // (a further click on this graph), never from another scale's.
+    // One solve with the margin's background seeds at ROI `scale` (and the network's prior if
+    // asked): the objects' claims. Each kind of solve warm-starts only from its own last answer
+    // (a further click on this graph), never from another scale's or from the prior's.
+    auto solve_at = [&](double scale, bool prior) {
         stop_if_cancelled(o.cancel);
         t0 = Clock::now();
-        scale_rois(cloud_, objects, scales[f], d);
+        scale_rois(cloud_, objects, scale, d);
         WalkProblem pr = margin_problem(d, objects.size());
         seed_clicks(objects, d, &nbr, *node_grid_, pr);
+        if (prior) network_prior(o, objects, rois, probabilities, d, &graph_.host_adjacency().degree, pr);
         result.stage_ms["graph seeds"] += ms_since(t0);
         for (auto* obj : objects) obj->claims.clear();
-        WarmStart& warm = warm_[scales[f]];
+        WarmStart& warm = warm_[prior ? -scale : scale];
         if (o.solver == GraphSolver::Forest) solve_forest(o, objects, d.domain, nbr, pr, warm, result);
         else solve_walk(rest, objects, d.domain, nbr, pr, warm, result);
         rest.on_coarse = nullptr;
         result.stage_ms["graph solve"] += ms_since(t0);
+    };
+    for (size_t f = 0; f < scales.size(); ++f) {
+        solve_at(scales[f], false);
         if (scales.size() == 1 && !unary) {
             for (size_t j = 0; j < objects.size(); ++j) objects[j]->graph_scale = scales[f], best[j] = std::move(objects[j]->claims);
             break;
@@ -394,19 +399,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         if (fits) break;
     }
     if (unary) {
-        stop_if_cancelled(o.cancel);
-        t0 = Clock::now();
-        scale_rois(cloud_, objects, scales.front(), d);
-        WalkProblem pr = margin_problem(d, objects.size());
-        seed_clicks(objects, d, &nbr, *node_grid_, pr);
-        const auto degree = vk::download_vector<float>(ctx_, graph_.degree_buffer(), nodes);
-        network_prior(o, objects, rois, probabilities, d, &degree, pr);
-        result.stage_ms["graph seeds"] += ms_since(t0);
-        for (auto* obj : objects) obj->claims.clear();
-        WarmStart& warm = warm_[-scales.front()];  // the prior's answers warm-start their own kind
-        if (o.solver == GraphSolver::Forest) solve_forest(o, objects, d.domain, nbr, pr, warm, result);
-        else solve_walk(rest, objects, d.domain, nbr, pr, warm, result);
-        result.stage_ms["graph solve"] += ms_since(t0);
+        solve_at(scales.front(), true);
         t0 = Clock::now();
         const auto contrast = contrasts();
         for (size_t j = 0; j < objects.size(); ++j) {
