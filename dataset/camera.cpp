@@ -16,6 +16,12 @@ bool Camera::has_distortion() const {
     return false;
 }
 
+std::optional<glm::dvec2> Camera::project(const glm::dvec3& world) const {
+    const glm::dvec3 p = R * world + t;
+    if (p.z <= 1e-6) return std::nullopt;
+    return glm::dvec2(fx * p.x / p.z + cx, fy * p.y / p.z + cy);
+}
+
 Camera Camera::resized(int new_width, int new_height) const {
     if (width <= 0 || height <= 0 || new_width <= 0 || new_height <= 0)
         throw std::invalid_argument("Camera::resized: sizes must be positive (camera '" + name + "' is " +

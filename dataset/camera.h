@@ -1,6 +1,7 @@
 #pragma once
 // One camera type for every importer: world-to-camera in the OpenCV convention
 // (x right, y down, z forward), pinhole intrinsics in pixels.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,8 @@ struct Camera {
     glm::dvec3 forward() const { return glm::transpose(R)[2]; }  // camera +z in world
     glm::dvec3 up() const { return -glm::transpose(R)[1]; }      // camera -y in world
     glm::dmat4 world_to_camera() const;
+    // Pixel coordinates (top-left corner at 0) of a world point; none behind or at the camera.
+    std::optional<glm::dvec2> project(const glm::dvec3& world) const;
     bool has_distortion() const;
     // Same camera at another resolution: intrinsics scale with the image.
     Camera resized(int new_width, int new_height) const;

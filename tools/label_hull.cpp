@@ -112,9 +112,9 @@ int main(int argc, char** argv) {
                 bool hull = true;
                 for (const auto& [view, poly] : labels[l].polygons) {
                     const data::Camera& c = *by_name[view];
-                    const glm::dvec3 x = c.R * mu + c.t;
-                    if (x.z <= 1e-6) continue;
-                    const glm::dvec2 p(c.fx * x.x / x.z + c.cx, c.fy * x.y / x.z + c.cy);
+                    const auto px = c.project(mu);
+                    if (!px) continue;
+                    const glm::dvec2 p = *px;
                     if (p.x < 0 || p.y < 0 || p.x >= c.width || p.y >= c.height) continue;
                     if (!inside(poly, p, dilate)) {
                         hull = false;

@@ -43,8 +43,8 @@ struct SegmentArgs {
     seg::WalkOptions walk;
     float unary = 1.0f, unary_confidence = 0.97f, walk_sure = 0.7f;
     uint32_t coarse = 8;
-    uint64_t graph_max_nodes = 0;
-    double margin = 0.5;
+    uint64_t graph_max_nodes = 0, graph_budget = seg::SegmentOptions{}.graph_budget;
+    double margin = seg::SegmentOptions{}.graph_margin;
     std::vector<double> scales{1.0, 2.0};
     double scale_ratio = 0.25;
     uint64_t seed = 1;
@@ -121,6 +121,7 @@ void run_segment(const SegmentArgs& args) {
     o.unary_confidence = a.unary_confidence;
     o.coarse_stride = a.coarse;
     o.graph_max_nodes = a.graph_max_nodes;
+    o.graph_budget = a.graph_budget;
     o.graph_margin = a.margin;
     if (!(a.scale_ratio > 0 && a.scale_ratio <= 1))
         throw data::InputError("--graph-scale-ratio", "expected a ratio in (0, 1], got " + std::to_string(a.scale_ratio));
@@ -277,6 +278,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--graph-opacity", a->graph.opacity, "Graph: an edge's weight has the factor min(opacity)^this (0: opacity plays no part)")->capture_default_str();
     cmd->add_option("--graph-distance", a->graph.distance, "Graph: distance fall-off in local spacings")->capture_default_str();
     cmd->add_option("--graph-max-nodes", a->graph_max_nodes, "Graph: most nodes one graph holds (0: what the device's largest binding allows); a larger domain is solved on every n-th Gaussian, the rest labelled as their nearest solved one")->capture_default_str();
+    cmd->add_option("--graph-budget", a->graph_budget, "Graph: a click's budget in nodes; past it the margin narrows to 0.1, then the larger --graph-scales are left out (before any decimation), so a click costs about what the ROIs at the smallest scale hold (0: no budget)")->capture_default_str();
     cmd->add_option("--graph-margin", a->margin, "Graph: the solve's domain is the largest scaled ROIs widened by this fraction per side; what lies in the margin seeds the background")->capture_default_str();
     cmd->add_option("--graph-scales", a->scales, "Graph: the background's boundary at each object's ROI scaled by each of these, one solve each; per object the smallest scale's answer stands unless a larger one's boundary contrast is below --graph-scale-ratio times its own; ptv3+graph then solves the largest once more with the network's prior, whose answer stands per object where its boundary contrast is no higher than the chosen one's")->delimiter(',')->capture_default_str();
     cmd->add_option("--graph-scale-ratio", a->scale_ratio, "Graph: how much weaker (mean cut edge weight over mean inside edge weight) a larger ROI's boundary must be to win")->capture_default_str();

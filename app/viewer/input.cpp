@@ -101,15 +101,14 @@ void Viewer::draw_markers() {
     ImGuiIO& io = ImGui::GetIO();
     const Rect r = presenter_->picture_rect();
     const data::Camera& c = picture_.camera;
-    const glm::dmat4 view = c.world_to_camera();
     ImDrawList* dl = ImGui::GetBackgroundDrawList();
     for (const auto& o : doc_.state().objects) {
         if (o.hidden || (isolate_ && o.id != doc_.state().selected)) continue;
         const bool selected = o.id == doc_.state().selected;
         for (const auto& click : o.clicks) {
-            const glm::dvec4 p = view * glm::dvec4(click.anchor.position, 1.0);
-            if (p.z <= 1e-6) continue;
-            const double u = (c.fx * p.x / p.z + c.cx) / c.width, v = (c.fy * p.y / p.z + c.cy) / c.height;
+            const auto px = c.project(click.anchor.position);
+            if (!px) continue;
+            const double u = px->x / c.width, v = px->y / c.height;
             if (u < 0 || v < 0 || u > 1 || v > 1) continue;
             const ImVec2 at((r.x + u * r.width) / io.DisplayFramebufferScale.x,
                             (r.y + v * r.height) / io.DisplayFramebufferScale.y);

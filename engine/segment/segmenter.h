@@ -48,6 +48,13 @@ const char* graph_use_name(GraphUse use);
 
 struct SegmentResult;
 
+// The narrowest margin a click's budget takes a domain to (SegmentOptions::graph_budget). Every
+// node of the margin seeds the background and the answer inside depends on the seeds next to
+// the ROIs, so a narrow ring costs little (0.1 against 0.5 of the ROI per side, fresh seeds 6201
+// and 5153: desk -0.2 / -0.6 points of 3D IoU, residence -0.4 / -0.9, vehicles +0.6 / -0.6)
+// and holds a third of the nodes of a dense scene's domain.
+inline constexpr double kNarrowMargin = 0.1;
+
 struct SegmentOptions {
     glm::dvec3 up{0, -1, 0};     // the scene's up axis (see dataset/up_axis.h)
     double scale = 0;            // typical object size in scene units; 0: from the cameras
@@ -76,6 +83,10 @@ struct SegmentOptions {
     // Most nodes one graph may hold (0: what the device's largest binding allows, about 1.6 M at
     // k 10 on lavapipe). A larger domain is solved on every n-th node (see solve_decimated).
     uint64_t graph_max_nodes = 0;
+    // A click's budget in nodes. Past it the margin first narrows to kNarrowMargin, then the
+    // larger scales are left out, all before any decimation: a click on a scene of millions
+    // costs about what the ROIs at scale 1 hold (0: no budget, only graph_max_nodes).
+    uint64_t graph_budget = 600000;
     uint32_t coarse_stride = 8;   // walk: a first solve on every n-th node starts the fine one (1: none);
                                   // with multigrid only where the fine graph's component holds no seed
                                   // or prior (what the coarse graph joins to the rest and labels)
@@ -250,6 +261,10 @@ private:
     // The scene's Gaussians binned across up in the ROI's axes (made on the first click, and
     // again only if the axes change).
     const ColumnIndex& columns(const RoiBox& roi);
+    // The most nodes one graph may hold (the device's binding, or graph_max_nodes).
+    uint64_t graph_capacity(const SegmentOptions& o) const;
+    // graph_ built over `d` with `options` unless it already is (then its warm starts stay).
+    void ensure_graph(const GraphDomain& d, const GraphOptions& options);
 
     vk::Context& ctx_;
     const data::GaussianCloud& cloud_;

@@ -115,6 +115,42 @@ bool in_column(const RoiBox& r, const glm::dvec3& p, double factor) {
            std::abs(glm::dot(rel, r.width_axis)) <= factor * r.width / 2;
 }
 
+// Numbers the domain's nodes in Morton order of their position: a node's neighbours get nearby
+// numbers, so the passes' gathers stay in cache and a SIMD group's nodes share cells and row
+// lengths. Fills node_of (sized to the cloud, -1 outside) and the bounding box.
+void order_domain(const data::GaussianCloud& cloud, GraphDomain& d) {
+    std::vector<uint32_t>& domain = d.domain;
+    d.node_of.assign(cloud.size(), -1);
+    if (domain.empty()) return;
+    glm::vec3& lo = d.lo;
+    glm::vec3& hi = d.hi;
+    lo = hi = cloud.mean[domain[0]];
+    for (uint32_t g : domain) lo = glm::min(lo, cloud.mean[g]), hi = glm::max(hi, cloud.mean[g]);
+    const glm::vec3 to_grid = 1023.0f / glm::max(hi - lo, glm::vec3(1e-12f));
+    auto spread = [](uint32_t v) {  // 10 bits -> every third bit
+        v = (v | (v << 16)) & 0x030000FFu;
+        v = (v | (v << 8)) & 0x0300F00Fu;
+        v = (v | (v << 4)) & 0x030C30C3u;
+        return (v | (v << 2)) & 0x09249249u;
+    };
+    std::vector<std::pair<uint32_t, uint32_t>> keyed(domain.size());
+    for (size_t s = 0; s < domain.size(); ++s) {
+        const glm::uvec3 q(glm::clamp((cloud.mean[domain[s]] - lo) * to_grid, glm::vec3(0.0f), glm::vec3(1023.0f)));
+        keyed[s] = {spread(q.x) | spread(q.y) << 1 | spread(q.z) << 2, domain[s]};
+    }
+    std::sort(keyed.begin(), keyed.end());
+    for (size_t s = 0; s < domain.size(); ++s) domain[s] = keyed[s].second, d.node_of[domain[s]] = int32_t(s);
+}
+
+// Which nodes the objects' ROIs (as the encoder took them) hold.
+void mark_rois(const std::vector<std::vector<uint32_t>>& rois, GraphDomain& d) {
+    d.in_base_roi.assign(d.domain.size(), 0);
+    for (auto& roi : rois)
+        for (uint32_t g : roi)
+            if (d.node_of[g] >= 0) d.in_base_roi[size_t(d.node_of[g])] = 1;
+    d.in_roi = d.in_base_roi;
+}
+
 // The domain: every Gaussian within an ROI column scaled by `reach` (the largest ROI scale) and
 // widened by the margin. Between the ROI and the margin lies the background's evidence of last
 // resort: the object-scale rule's ROI.
@@ -122,45 +158,17 @@ GraphDomain graph_domain(const data::GaussianCloud& cloud, const ColumnIndex& co
                          const std::vector<ObjectResult*>& objects, const std::vector<std::vector<uint32_t>>& rois,
                          double margin, double reach) {
     GraphDomain d;
-    const size_t n = cloud.size();
-    std::vector<int32_t>& node_of = d.node_of;
-    std::vector<uint32_t>& domain = d.domain;
-    node_of.assign(n, -1);
+    std::vector<uint8_t> taken(cloud.size(), 0);
     const double factor = reach * (1 + 2 * margin);
-    // Each object's column from the index's candidates (node_of marks those taken; numbered below).
+    // Each object's column from the index's candidates.
     for (auto* obj : objects)
         for (uint32_t i : columns.candidates(obj->roi.centre, factor * obj->roi.length / 2, factor * obj->roi.width / 2))
-            if (node_of[i] < 0 && in_column(obj->roi, glm::dvec3(cloud.mean[i]), factor)) {
-                node_of[i] = 0;
-                domain.push_back(i);
+            if (!taken[i] && in_column(obj->roi, glm::dvec3(cloud.mean[i]), factor)) {
+                taken[i] = 1;
+                d.domain.push_back(i);
             }
-    // Nodes in Morton order of their position: a node's neighbours get nearby numbers, so the
-    // passes' gathers stay in cache and a SIMD group's nodes share cells and row lengths.
-    if (!domain.empty()) {
-        glm::vec3& lo = d.lo;
-        glm::vec3& hi = d.hi;
-        lo = hi = cloud.mean[domain[0]];
-        for (uint32_t g : domain) lo = glm::min(lo, cloud.mean[g]), hi = glm::max(hi, cloud.mean[g]);
-        const glm::vec3 to_grid = 1023.0f / glm::max(hi - lo, glm::vec3(1e-12f));
-        auto spread = [](uint32_t v) {  // 10 bits -> every third bit
-            v = (v | (v << 16)) & 0x030000FFu;
-            v = (v | (v << 8)) & 0x0300F00Fu;
-            v = (v | (v << 4)) & 0x030C30C3u;
-            return (v | (v << 2)) & 0x09249249u;
-        };
-        std::vector<std::pair<uint32_t, uint32_t>> keyed(domain.size());
-        for (size_t s = 0; s < domain.size(); ++s) {
-            const glm::uvec3 q(glm::clamp((cloud.mean[domain[s]] - lo) * to_grid, glm::vec3(0.0f), glm::vec3(1023.0f)));
-            keyed[s] = {spread(q.x) | spread(q.y) << 1 | spread(q.z) << 2, domain[s]};
-        }
-        std::sort(keyed.begin(), keyed.end());
-        for (size_t s = 0; s < domain.size(); ++s) domain[s] = keyed[s].second, node_of[domain[s]] = int32_t(s);
-    }
-    d.in_base_roi.assign(domain.size(), 0);
-    for (auto& roi : rois)
-        for (uint32_t g : roi)
-            if (node_of[g] >= 0) d.in_base_roi[size_t(node_of[g])] = 1;
-    d.in_roi = d.in_base_roi;
+    order_domain(cloud, d);
+    mark_rois(rois, d);
     return d;
 }
 
@@ -296,20 +304,42 @@ LabelColumns Segmenter::coarse_start(const SegmentOptions& o, const std::vector<
     return start;
 }
 
+uint64_t Segmenter::graph_capacity(const SegmentOptions& o) const {
+    const uint64_t capacity = KnnGraph::max_nodes(ctx_, o.graph_options.k);
+    return o.graph_max_nodes ? std::min(capacity, o.graph_max_nodes) : capacity;
+}
+
+void Segmenter::ensure_graph(const GraphDomain& d, const GraphOptions& options) {
+    if (d.domain != graph_domain_ || !(options == graph_built_with_)) {
+        graph_.build(scene_, cloud_, d.domain, options);
+        graph_domain_ = d.domain;
+        graph_built_with_ = options;
+        warm_.clear();
+        node_grid_.reset();
+    }
+    if (!node_grid_) node_grid_.emplace(cloud_, d, graph_.cell_side(), true);
+}
+
 void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                             const std::vector<std::vector<uint32_t>>& rois,
                             const std::vector<std::vector<float>>& probabilities, SegmentResult& result) {
     std::vector<double> scales = roi_scales(o);
     const ColumnIndex& index = columns(objects.front()->roi);
-    GraphDomain d = graph_domain(cloud_, index, objects, rois, o.graph_margin, std::max(scales.front(), 1.0));
-    uint64_t capacity = KnnGraph::max_nodes(ctx_, o.graph_options.k);
-    if (o.graph_max_nodes) capacity = std::min(capacity, o.graph_max_nodes);
-    // Past the graph's limit, the larger scales go first: every node of a smaller domain beats
-    // every n-th node of a larger one (2 M tiled guitar, lavapipe: a further click 10.2 s
-    // decimated at scale 2, 1.5 s at scale 1 alone).
-    while (d.domain.size() > capacity && scales.size() > 1) {
+    double margin = o.graph_margin;
+    GraphDomain d = graph_domain(cloud_, index, objects, rois, margin, std::max(scales.front(), 1.0));
+    const uint64_t capacity = graph_capacity(o);
+    // Past the graph's limit or the click's budget, the margin narrows first (it costs least),
+    // then the larger scales go: every node of a smaller domain beats every n-th node of a larger
+    // one (2 M tiled guitar, lavapipe: a further click 10.2 s decimated at scale 2, 1.5 s at scale
+    // 1 alone).
+    const uint64_t budget = o.graph_budget ? std::min(capacity, o.graph_budget) : capacity;
+    if (d.domain.size() > budget && margin > kNarrowMargin) {
+        margin = kNarrowMargin;
+        d = graph_domain(cloud_, index, objects, rois, margin, std::max(scales.front(), 1.0));
+    }
+    while (d.domain.size() > budget && scales.size() > 1) {
         scales.erase(scales.begin());
-        d = graph_domain(cloud_, index, objects, rois, o.graph_margin, std::max(scales.front(), 1.0));
+        d = graph_domain(cloud_, index, objects, rois, margin, std::max(scales.front(), 1.0));
     }
     if (d.domain.size() > capacity) return solve_decimated(o, objects, rois, probabilities, d, capacity, result);
     const bool rebuild = d.domain != graph_domain_ || !(o.graph_options == graph_built_with_);
@@ -318,14 +348,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     if (rebuild && early_coarse_answer(o, objects, d, result)) rest.on_coarse = nullptr;
     stop_if_cancelled(o.cancel);
     auto t0 = Clock::now();
-    if (rebuild) {
-        graph_.build(scene_, cloud_, d.domain, o.graph_options);
-        graph_domain_ = d.domain;
-        graph_built_with_ = o.graph_options;
-        warm_.clear();
-        node_grid_.reset();
-    }
-    if (!node_grid_) node_grid_.emplace(cloud_, d, graph_.cell_side(), true);
+    ensure_graph(d, o.graph_options);
     result.stage_ms["graph build"] += ms_since(t0);
 
     const uint32_t nodes = uint32_t(d.domain.size());
@@ -380,14 +403,15 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         // then that scale's margin could only cut the answers further (on the sample and the real
         // guitar both scales gave every object the same answer), so it is not solved.
         bool fits = f + 1 < scales.size();
+        auto within = [&](const ObjectResult& obj, double scale) {  // all but 1 % of the answer
+            size_t outside = 0;
+            for (auto [g, p] : obj.claims) outside += !in_column(obj.roi, glm::dvec3(cloud_.mean[g]), scale);
+            return outside * 100 <= obj.claims.size();
+        };
         for (size_t j = 0; j < objects.size(); ++j) {
             ObjectResult& obj = *objects[j];
             obj.scale_answers.emplace_back(scales[f], contrast[j + 1], obj.claims.size());
-            if (fits) {
-                size_t outside = 0;
-                for (auto [g, p] : obj.claims) outside += !in_column(obj.roi, glm::dvec3(cloud_.mean[g]), scales[f + 1]);
-                fits = outside * 100 <= obj.claims.size();
-            }
+            if (fits) fits = within(obj, scales[f + 1]);
             if (obj.claims.empty()) continue;  // no answer never wins
             if (f == 0 || best[j].empty() || !(best_contrast[j] < o.graph_scale_ratio * contrast[j + 1])) {
                 best[j] = std::move(obj.claims);

@@ -73,11 +73,11 @@ double warm_up(vk::Context& ctx, const SegmentOptions& options, size_t objects) 
     for (uint32_t w = 1; w <= widths; ++w) {
         data::Prompts prompts;
         for (size_t i = 0; i < (w == 1 ? 1 : 4 * (w - 1)); ++i) {
-            const glm::dvec3 p = cam.R * s.tops[i] + cam.t;
+            const glm::dvec2 at = *cam.project(s.tops[i]);  // the camera looks down on every cube
             data::PromptClick click;
             click.view = cam.name;
-            click.u = cam.fx * p.x / p.z + cam.cx;
-            click.v = cam.fy * p.y / p.z + cam.cy;
+            click.u = at.x;
+            click.v = at.y;
             prompts.objects.push_back({"cube " + std::to_string(i + 1), int(i + 1), {click}});
         }
         Segmenter segmenter(ctx, s.cloud, scene, cameras);  // new each time: a cold solve, as on a new scene

@@ -158,12 +158,20 @@ nlohmann::json transform_matrix_gl(const Camera& c) {
 
 }  // namespace
 
-TEST_CASE("Camera: world_to_camera, has_distortion, resized", "[cameras]") {
+TEST_CASE("Camera: world_to_camera, project, has_distortion, resized", "[cameras]") {
     Camera c = sample_cameras()[2];
     const glm::dvec3 p(0.3, -1.2, 2.0);
     const glm::dvec4 q = c.world_to_camera() * glm::dvec4(p, 1.0);
     require_near(glm::dvec3(q), c.R * p + c.t);
     REQUIRE(q.w == 1.0);
+    REQUIRE(q.z > 0);
+    const auto uv = c.project(p);
+    REQUIRE(uv);
+    REQUIRE(uv->x == Approx(project(c, p).x));
+    REQUIRE(uv->y == Approx(project(c, p).y));
+    // The point mirrored through the camera centre lies behind it: no pixel.
+    REQUIRE_FALSE(c.project(2.0 * c.position() - p));
+    REQUIRE_FALSE(c.project(c.position()));
 
     REQUIRE_FALSE(c.has_distortion());
     c.distortion = {0, 0, 0, 0};

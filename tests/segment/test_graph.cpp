@@ -551,7 +551,8 @@ TEST_CASE("graph decoder: a domain past the graph's node limit is solved on ever
     seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras);
     seg::SegmentOptions o = balls_options();
     o.graph_options.colour = 10.0f;
-    o.graph_scales = {1.0};  // one ROI scale: past the limit a larger one is left out first (test_graph_scales)
+    o.graph_scales = {1.0};  // one ROI scale and the narrow margin: past the limit a larger one
+    o.graph_margin = seg::kNarrowMargin;  // is left out and the margin narrowed first (test_graph_scales)
     data::Prompts p = left_and_middle();
     for (auto solver : {seg::GraphSolver::Walk, seg::GraphSolver::Forest, seg::GraphSolver::WalkForest}) {
         INFO("solver " << seg::graph_solver_name(solver));

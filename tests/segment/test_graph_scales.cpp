@@ -4,10 +4,15 @@
 
 #include <cmath>
 
+#include "dataset/formats/camera_io.h"
+#include "dataset/formats/scene_io.h"
+#include "dataset/prompts.h"
+#include "dataset/up_axis.h"
 #include "engine/segment/boundary_contrast.h"
 #include "engine/segment/segmenter.h"
 #include "tests/gpu_fixture.h"
 #include "tests/reference/test_scenes.h"
+#include "tests/test_paths.h"
 
 using namespace pg;
 
@@ -51,7 +56,7 @@ TEST_CASE("boundary contrast: a cut along a weak edge scores its weakness, one t
     CHECK(seg::boundary_contrast(g, label, 4)[2] == Approx(1.0));
 }
 
-TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at the larger ROI scale and says so, one within it is solved once, and past the node limit the larger scale is left out") {
+TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at the larger ROI scale and says so, one within it is solved once, and past the node limit or the budget the margin narrows, then the larger scale is left out") {
     // An orange rod 1.2 long held 0.05 above a grey floor (on supports out of the picture),
     // clicked 0.1 from one end. The ROI at scale 1
     // (1.25 wide about the click) ends halfway along the rod: the margin's background seeds lie
@@ -117,21 +122,87 @@ TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at t
     CHECK(rod_iou(middle) > 0.95);
     CHECK(middle.objects[0].scale_answers.size() == 1);
     CHECK(middle.objects[0].graph_scale == 2.0);
-    // A larger scale's domain past the graph's node limit is left out before any decimation:
-    // every node at scale 1 rather than every n-th at scale 2.
+    // Past the graph's node limit or a click's budget, before any decimation: the margin narrows
+    // first, and the larger scale stays while that fits (the rod whole); below that the larger
+    // scale is left out too: every node at scale 1 rather than every n-th at scale 2.
     o.graph_scales = {1.0};
     const auto one = segmenter.segment(p, o);
     o.graph_scales = {1.0, 2.0};
+    o.graph_margin = seg::kNarrowMargin;
+    const auto narrow = segmenter.segment(p, o);
+    o.graph_margin = 0.5;
     REQUIRE(one.graph);
     REQUIRE(middle.graph);
+    REQUIRE(narrow.graph);
     const size_t small_domain = one.graph->domain, large_domain = middle.graph->domain;
     REQUIRE(large_domain > small_domain);
-    o.graph_max_nodes = (small_domain + large_domain) / 2;
-    const auto limited = segmenter.segment(p, o);
-    REQUIRE(limited.failed() == 0);
-    REQUIRE(limited.graph);
-    CHECK(limited.graph->stride == 1);
-    CHECK(limited.graph->domain == small_domain);
-    CHECK(limited.objects[0].graph_scale == 1.0);
-    CHECK(rod_iou(limited) > 0.95);
+    CHECK(double(narrow.graph->domain) < 0.8 * double(large_domain));  // the floor past the ROI at 2 left out
+    CHECK(rod_iou(narrow) > 0.95);
+    for (bool budget : {false, true}) {
+        INFO((budget ? "a click's budget" : "the node limit"));
+        uint64_t& limit = budget ? o.graph_budget : o.graph_max_nodes;
+        const uint64_t before = limit;
+        limit = narrow.graph->domain;
+        const auto fitted = segmenter.segment(p, o);
+        REQUIRE(fitted.failed() == 0);
+        REQUIRE(fitted.graph);
+        CHECK(fitted.graph->stride == 1);
+        CHECK(fitted.graph->domain == narrow.graph->domain);
+        CHECK(fitted.objects[0].graph_scale == 2.0);
+        CHECK(fitted.labels == narrow.labels);
+        limit = narrow.graph->domain - 1;
+        const auto tight = segmenter.segment(p, o);
+        REQUIRE(tight.failed() == 0);
+        REQUIRE(tight.graph);
+        CHECK(tight.graph->stride == 1);
+        CHECK(tight.graph->domain < small_domain);  // scale 1 with the narrow margin
+        CHECK(tight.objects[0].graph_scale == 1.0);
+        limit = before;
+    }
+}
+
+TEST_CASE("graph decoder: a thin margin answers the sample as well as a wide one") {
+    // Every node in the margin seeds the background, and the walk's answer inside the ROI depends
+    // on the seeds next to it, not on how far the ring reaches: a ring a fifth as wide answers the
+    // sample's ten first clicks as well (the graph's grid cell follows the domain's spacing, so a
+    // near tie may still flip: not the same labels, the same quality).
+    const auto dir = test::source_dir() / "assets" / "sample" / "desk_000";
+    const auto cloud = data::load_scene(dir / "scene.ply");
+    const auto cameras = data::load_cameras(dir / "cameras.json");
+    auto prompts = data::read_prompts(dir / "prompts.json");
+    for (auto& obj : prompts.objects) obj.clicks.resize(1);
+    const auto truth = cloud.int_property("instance");
+    REQUIRE(truth);
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, cloud);
+    seg::Segmenter segmenter(ctx, cloud, gpu, cameras);
+    seg::SegmentOptions o;
+    o.up = data::up_from_cameras(cameras);
+    o.graph = seg::GraphUse::Alone;
+    auto mean_iou = [&](const seg::SegmentResult& r) {
+        double sum = 0;
+        for (auto& obj : prompts.objects) {
+            size_t inter = 0, uni = 0;
+            for (size_t i = 0; i < r.labels.size(); ++i) {
+                const bool a = r.labels[i] == obj.id, b = (*truth)[i] == obj.id;
+                inter += a && b, uni += a || b;
+            }
+            sum += uni ? double(inter) / double(uni) : 0.0;
+        }
+        return sum / double(prompts.objects.size());
+    };
+    o.graph_margin = 0.1;
+    const auto thin = segmenter.segment(prompts, o);
+    o.graph_margin = 0.5;
+    const auto wide = segmenter.segment(prompts, o);
+    REQUIRE(thin.failed() == 0);
+    REQUIRE(wide.failed() == 0);
+    REQUIRE(thin.graph);
+    REQUIRE(wide.graph);
+    CHECK(thin.graph->domain <= wide.graph->domain);
+    const double a = mean_iou(thin), b = mean_iou(wide);
+    INFO("mean 3D IoU, margin 0.1: " << a << ", 0.5: " << b);
+    CHECK(b > 0.85);
+    CHECK(a >= b - 0.02);
+
 }
