@@ -161,7 +161,7 @@ TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at t
     }
 }
 
-TEST_CASE("graph decoder: a thin margin answers the sample as well as a wide one") {
+TEST_CASE("graph decoder: the budget's narrow margin answers the sample as well as the default one") {
     // Every node in the margin seeds the background, and the walk's answer inside the ROI depends
     // on the seeds next to it, not on how far the ring reaches: a ring a fifth as wide answers the
     // sample's ten first clicks as well (the graph's grid cell follows the domain's spacing, so a
@@ -191,7 +191,7 @@ TEST_CASE("graph decoder: a thin margin answers the sample as well as a wide one
         }
         return sum / double(prompts.objects.size());
     };
-    o.graph_margin = 0.1;
+    o.graph_margin = seg::kNarrowMargin;
     const auto thin = segmenter.segment(prompts, o);
     o.graph_margin = 0.5;
     const auto wide = segmenter.segment(prompts, o);
@@ -204,5 +204,4 @@ TEST_CASE("graph decoder: a thin margin answers the sample as well as a wide one
     INFO("mean 3D IoU, margin 0.1: " << a << ", 0.5: " << b);
     CHECK(b > 0.85);
     CHECK(a >= b - 0.02);
-
 }
