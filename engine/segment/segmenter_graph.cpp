@@ -476,32 +476,66 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
     const uint32_t m = uint32_t(cs.members.size());
     GraphReport report = graph_report(coarse_graph_, o.solver, cs.problem.seed);
     const auto root = component_roots(coarse_graph_, coarse_graph_.host_neighbours());
-    std::vector<uint8_t> reached;
-    NodeLabels labels;
+    // The subsample's labels for a problem (its walk's answer in x where walked), and which of its
+    // nodes a seed or prior reaches; the solve's figures go to `rep`.
+    struct Subsample {
+        NodeLabels labels;
+        std::vector<uint8_t> reached;
+    };
+    auto label_subsample = [&](const WalkProblem& problem, const LabelColumns& x, GraphReport& rep) {
+        Subsample out;
+        if (walk) {
+            out.reached = reached_components(root, problem, LabelColumns(), rep);
+            const WalkLabels w = x.most_likely(&out.reached);
+            out.labels = {w.arg, w.share, 0, 0};
+            if (o.solver == GraphSolver::WalkForest)
+                out.labels = walk_then_forest(forest_, coarse_graph_, problem.seed, w, o.walk_sure, o.forest);
+            rep.rounds = out.labels.rounds;
+            rep.forest_free = out.labels.free_nodes;
+        } else {
+            WalkProblem seeds_only;
+            seeds_only.labels = problem.labels;
+            seeds_only.seed = forest_seeds(problem);
+            out.reached = reached_components(root, seeds_only, LabelColumns(), rep);
+            auto forest = forest_.solve(coarse_graph_, seeds_only.seed, o.forest);
+            out.labels.label = std::move(forest.label);
+            out.labels.confidence.assign(m, 1.0f);
+            rep.rounds = forest.rounds;
+            rep.forest_free = forest.free_nodes;
+            rep.residual = forest.converged ? 0.0 : 1.0;
+        }
+        return out;
+    };
     if (walk) {
-        reached = reached_components(root, cs.problem, LabelColumns(), report);
-        const WalkLabels w = cs.x.most_likely(&reached);
-        labels = {w.arg, w.share, 0, 0};
-        if (o.solver == GraphSolver::WalkForest)
-            labels = walk_then_forest(forest_, coarse_graph_, cs.problem.seed, w, o.walk_sure, o.forest);
-        report.rounds = labels.rounds;
-        report.forest_free = labels.free_nodes;
         report.iterations = cs.walk.iterations;
         report.levels = cs.walk.levels;
         report.jacobi_retries = cs.walk.jacobi_retries;
         report.residual = cs.walk.residual;
-    } else {
-        const std::vector<int32_t> seed = forest_seeds(cs.problem);
-        WalkProblem seeds_only;
-        seeds_only.labels = pr.labels;
-        seeds_only.seed = seed;
-        reached = reached_components(root, seeds_only, LabelColumns(), report);
-        auto forest = forest_.solve(coarse_graph_, seed, o.forest);
-        labels.label = std::move(forest.label);
-        labels.confidence.assign(m, 1.0f);
-        report.rounds = forest.rounds;
-        report.forest_free = forest.free_nodes;
-        report.residual = forest.converged ? 0.0 : 1.0;
+    }
+    const Subsample solved = label_subsample(cs.problem, cs.x, report);
+    // ptv3+graph, as solve_graph has it: per object the network's answer stands where its
+    // boundary cuts the (subsample's) graph no harder than the graph alone's answer does.
+    std::vector<const Subsample*> answer(objects.size(), &solved);
+    Subsample bare;
+    if (o.graph == GraphUse::Unary) {
+        WalkProblem alone = cs.problem;
+        alone.gamma.clear();
+        alone.prior.clear();
+        LabelColumns x;
+        if (walk) walker_.solve(coarse_graph_, alone, x, o.walk);
+        GraphReport scratch;
+        bare = label_subsample(alone, x, scratch);
+        const uint32_t labels_n = uint32_t(objects.size() + 1);
+        const auto with_prior = boundary_contrast(coarse_graph_.host_adjacency(), solved.labels.label, labels_n);
+        const auto without = boundary_contrast(coarse_graph_.host_adjacency(), bare.labels.label, labels_n);
+        for (size_t j = 0; j < objects.size(); ++j) {
+            const int32_t l = int32_t(j + 1);
+            auto has = [&](const Subsample& sub) { return std::count(sub.labels.label.begin(), sub.labels.label.end(), l) > 0; };
+            ObjectResult& obj = *objects[j];
+            obj.network_answer = has(solved) && (!has(bare) || with_prior[j + 1] <= without[j + 1]);
+            if (!obj.network_answer) answer[j] = &bare;
+            obj.boundary_contrast = obj.network_answer ? with_prior[j + 1] : without[j + 1];
+        }
     }
     // Every domain node as its nearest subsample node. (Choosing among that node and its graph
     // neighbours by colour and distance moved the sample's 3D IoU at stride 3 by 0.03 points: what
@@ -510,11 +544,16 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
     report.unreached = 0;
     for (uint32_t i = 0; i < nodes; ++i) {
         const uint32_t c = cs.nearest[i];
-        if (c == kNoCoarse || !reached[c]) {
+        if (c == kNoCoarse || !solved.reached[c]) {
             ++report.unreached;
             continue;
         }
-        if (labels.label[c] > 0) objects[size_t(labels.label[c]) - 1]->claims.push_back({d.domain[i], labels.confidence[c]});
+        // Each object claims the node where the answer it took labels it so.
+        for (const Subsample* sub : {&solved, static_cast<const Subsample*>(&bare)}) {
+            if (sub->reached.empty() || !sub->reached[c]) continue;
+            const int32_t l = sub->labels.label[c];
+            if (l > 0 && answer[size_t(l) - 1] == sub) objects[size_t(l) - 1]->claims.push_back({d.domain[i], sub->labels.confidence[c]});
+        }
     }
     report.stride = rest.coarse_stride;
     report.domain = nodes;

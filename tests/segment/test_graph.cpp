@@ -631,7 +631,7 @@ TEST_CASE("graph decoder: a cold solve hands over a coarse answer first, and a c
     CHECK(again.labels == full.labels);
 }
 
-TEST_CASE("ptv3+graph: the network's answer stands where it cuts the graph no harder than the graph's own") {
+TEST_CASE("ptv3+graph: the network's answer stands where it cuts the graph no harder than the graph's own, on the whole domain and on every n-th node") {
     auto s = balls_scene();
     auto& ctx = test::gpu();
     render::GpuScene gpu(ctx, s.cloud);
@@ -655,6 +655,16 @@ TEST_CASE("ptv3+graph: the network's answer stands where it cuts the graph no ha
         CHECK(r.objects[0].network_trusted);
         CHECK(iou(r.labels, 1, s.ball, 1) > 0.95);
         CHECK(iou(r.labels, 2, s.ball, 2) > 0.95);
+        // The same rule where the domain is solved on every n-th node (past the node limit).
+        REQUIRE(r.graph);
+        auto limited = o;
+        limited.graph_max_nodes = r.graph->domain / 4;
+        const auto dec = segmenter.segment(p, limited);
+        REQUIRE(dec.graph);
+        CHECK(dec.graph->stride >= 2);
+        CHECK(dec.objects[0].network_answer);
+        CHECK(iou(dec.labels, 1, s.ball, 1) > 0.85);
+        CHECK(iou(dec.labels, 2, s.ball, 2) > 0.85);
     }
     {
         // A network that takes only the left ball's top half (a cut through its even colour) while
@@ -671,5 +681,14 @@ TEST_CASE("ptv3+graph: the network's answer stands where it cuts the graph no ha
         CHECK(r.objects[0].network_trusted);
         CHECK(iou(r.labels, 1, s.ball, 1) > 0.9);
         CHECK(iou(r.labels, 2, s.ball, 2) > 0.9);
+        REQUIRE(r.graph);
+        auto limited = o;
+        limited.graph_max_nodes = r.graph->domain / 4;
+        const auto dec = segmenter.segment(p, limited);
+        REQUIRE(dec.graph);
+        CHECK(dec.graph->stride >= 2);
+        CHECK_FALSE(dec.objects[0].network_answer);
+        CHECK(iou(dec.labels, 1, s.ball, 1) > 0.85);
+        CHECK(iou(dec.labels, 2, s.ball, 2) > 0.85);
     }
 }
