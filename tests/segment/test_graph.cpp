@@ -639,6 +639,19 @@ TEST_CASE("ptv3+graph: the network's answer stands where it cuts the graph no ha
     seg::SegmentOptions o = balls_options();
     o.graph = seg::GraphUse::Unary;
     o.graph_scales = {1.0};
+    // The same rule where the domain is solved on every n-th node (past the node limit): the
+    // same choice, and both balls found.
+    auto decimated = [&](seg::Segmenter& segmenter, const seg::SegmentResult& whole) {
+        REQUIRE(whole.graph);
+        auto limited = o;
+        limited.graph_max_nodes = whole.graph->domain / 4;
+        auto dec = segmenter.segment(p, limited);
+        REQUIRE(dec.graph);
+        CHECK(dec.graph->stride >= 2);
+        CHECK(iou(dec.labels, 1, s.ball, 1) > 0.85);
+        CHECK(iou(dec.labels, 2, s.ball, 2) > 0.85);
+        return dec;
+    };
     {
         // A leaky graph (the walk alone at colour contrast 3 floods the floor from one click):
         // a network that knows the balls cuts them at their colour edge, a cleaner cut than the
@@ -655,16 +668,7 @@ TEST_CASE("ptv3+graph: the network's answer stands where it cuts the graph no ha
         CHECK(r.objects[0].network_trusted);
         CHECK(iou(r.labels, 1, s.ball, 1) > 0.95);
         CHECK(iou(r.labels, 2, s.ball, 2) > 0.95);
-        // The same rule where the domain is solved on every n-th node (past the node limit).
-        REQUIRE(r.graph);
-        auto limited = o;
-        limited.graph_max_nodes = r.graph->domain / 4;
-        const auto dec = segmenter.segment(p, limited);
-        REQUIRE(dec.graph);
-        CHECK(dec.graph->stride >= 2);
-        CHECK(dec.objects[0].network_answer);
-        CHECK(iou(dec.labels, 1, s.ball, 1) > 0.85);
-        CHECK(iou(dec.labels, 2, s.ball, 2) > 0.85);
+        CHECK(decimated(segmenter, r).objects[0].network_answer);
     }
     {
         // A network that takes only the left ball's top half (a cut through its even colour) while
@@ -681,14 +685,6 @@ TEST_CASE("ptv3+graph: the network's answer stands where it cuts the graph no ha
         CHECK(r.objects[0].network_trusted);
         CHECK(iou(r.labels, 1, s.ball, 1) > 0.9);
         CHECK(iou(r.labels, 2, s.ball, 2) > 0.9);
-        REQUIRE(r.graph);
-        auto limited = o;
-        limited.graph_max_nodes = r.graph->domain / 4;
-        const auto dec = segmenter.segment(p, limited);
-        REQUIRE(dec.graph);
-        CHECK(dec.graph->stride >= 2);
-        CHECK_FALSE(dec.objects[0].network_answer);
-        CHECK(iou(dec.labels, 1, s.ball, 1) > 0.85);
-        CHECK(iou(dec.labels, 2, s.ball, 2) > 0.85);
+        CHECK_FALSE(decimated(segmenter, r).objects[0].network_answer);
     }
 }
