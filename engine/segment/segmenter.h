@@ -138,6 +138,7 @@ struct GraphReport {
     // domain's graph would not fit the device (SegmentOptions::graph_max_nodes).
     uint32_t stride = 1;
     size_t domain = 0;           // Gaussians in the solve's domain
+    double margin = 0;           // the margin it was taken with (narrower than asked past graph_budget)
 };
 
 struct SegmentResult {

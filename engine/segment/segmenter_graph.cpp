@@ -341,7 +341,11 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         scales.erase(scales.begin());
         d = graph_domain(cloud_, index, objects, rois, margin, std::max(scales.front(), 1.0));
     }
-    if (d.domain.size() > capacity) return solve_decimated(o, objects, rois, probabilities, d, capacity, result);
+    if (d.domain.size() > capacity) {
+        solve_decimated(o, objects, rois, probabilities, d, capacity, result);
+        if (result.graph) result.graph->margin = margin;
+        return;
+    }
     const bool rebuild = d.domain != graph_domain_ || !(o.graph_options == graph_built_with_);
     // A cold solve's coarse answer, if wanted, comes first (then not again in solve_walk).
     SegmentOptions rest = o;
@@ -440,7 +444,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         objects[j]->claims = std::move(best[j]);
         objects[j]->boundary_contrast = best_contrast[j];
     }
-    if (result.graph) result.graph->domain = d.domain.size();
+    if (result.graph) result.graph->domain = d.domain.size(), result.graph->margin = margin;
 }
 
 void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResult*>& objects,

@@ -137,6 +137,7 @@ TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at t
     const size_t small_domain = one.graph->domain, large_domain = middle.graph->domain;
     REQUIRE(large_domain > small_domain);
     CHECK(double(narrow.graph->domain) < 0.8 * double(large_domain));  // the floor past the ROI at 2 left out
+    CHECK(middle.graph->margin == 0.5);
     CHECK(rod_iou(narrow) > 0.95);
     for (bool budget : {false, true}) {
         INFO((budget ? "a click's budget" : "the node limit"));
@@ -148,6 +149,7 @@ TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at t
         REQUIRE(fitted.graph);
         CHECK(fitted.graph->stride == 1);
         CHECK(fitted.graph->domain == narrow.graph->domain);
+        CHECK(fitted.graph->margin == seg::kNarrowMargin);  // report.json says why the domain is smaller
         CHECK(fitted.objects[0].graph_scale == 2.0);
         CHECK(fitted.labels == narrow.labels);
         limit = narrow.graph->domain - 1;
