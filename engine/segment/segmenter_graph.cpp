@@ -532,11 +532,16 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
         const uint32_t labels_n = uint32_t(objects.size() + 1);
         const auto with_prior = boundary_contrast(coarse_graph_.host_adjacency(), solved.labels.label, labels_n);
         const auto without = boundary_contrast(coarse_graph_.host_adjacency(), bare.labels.label, labels_n);
+        auto present = [&](const Subsample& sub) {  // per label: whether some node has it
+            std::vector<uint8_t> has(labels_n, 0);
+            for (int32_t l : sub.labels.label)
+                if (l > 0 && uint32_t(l) < labels_n) has[size_t(l)] = 1;
+            return has;
+        };
+        const auto in_solved = present(solved), in_bare = present(bare);
         for (size_t j = 0; j < objects.size(); ++j) {
-            const int32_t l = int32_t(j + 1);
-            auto has = [&](const Subsample& sub) { return std::count(sub.labels.label.begin(), sub.labels.label.end(), l) > 0; };
             ObjectResult& obj = *objects[j];
-            obj.network_answer = has(solved) && (!has(bare) || with_prior[j + 1] <= without[j + 1]);
+            obj.network_answer = in_solved[j + 1] && (!in_bare[j + 1] || with_prior[j + 1] <= without[j + 1]);
             if (!obj.network_answer) answer[j] = &bare;
             obj.boundary_contrast = obj.network_answer ? with_prior[j + 1] : without[j + 1];
         }
