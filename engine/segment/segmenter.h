@@ -264,8 +264,6 @@ private:
     const ColumnIndex& columns(const RoiBox& roi);
     // The most nodes one graph may hold (the device's binding, or graph_max_nodes).
     uint64_t graph_capacity(const SegmentOptions& o) const;
-    // graph_ built over `d` with `options` unless it already is (then its warm starts stay).
-    void ensure_graph(const GraphDomain& d, const GraphOptions& options);
 
     vk::Context& ctx_;
     const data::GaussianCloud& cloud_;

@@ -151,13 +151,12 @@ void mark_rois(const std::vector<std::vector<uint32_t>>& rois, GraphDomain& d) {
     d.in_roi = d.in_base_roi;
 }
 
-// The domain: every Gaussian within an ROI column scaled by `reach` (the largest ROI scale) and
-// widened by the margin. Between the ROI and the margin lies the background's evidence of last
-// resort: the object-scale rule's ROI.
-GraphDomain graph_domain(const data::GaussianCloud& cloud, const ColumnIndex& columns,
-                         const std::vector<ObjectResult*>& objects, const std::vector<std::vector<uint32_t>>& rois,
-                         double margin, double reach) {
-    GraphDomain d;
+// The domain's Gaussians: every one within an ROI column scaled by `reach` (the largest ROI
+// scale) and widened by the margin. Between the ROI and the margin lies the background's
+// evidence of last resort: the object-scale rule's ROI. Unordered (graph_domain orders them).
+std::vector<uint32_t> domain_gaussians(const data::GaussianCloud& cloud, const ColumnIndex& columns,
+                                       const std::vector<ObjectResult*>& objects, double margin, double reach) {
+    std::vector<uint32_t> domain;
     std::vector<uint8_t> taken(cloud.size(), 0);
     const double factor = reach * (1 + 2 * margin);
     // Each object's column from the index's candidates.
@@ -165,8 +164,16 @@ GraphDomain graph_domain(const data::GaussianCloud& cloud, const ColumnIndex& co
         for (uint32_t i : columns.candidates(obj->roi.centre, factor * obj->roi.length / 2, factor * obj->roi.width / 2))
             if (!taken[i] && in_column(obj->roi, glm::dvec3(cloud.mean[i]), factor)) {
                 taken[i] = 1;
-                d.domain.push_back(i);
+                domain.push_back(i);
             }
+    return domain;
+}
+
+// The domain over those Gaussians: numbered, and the objects' ROIs marked.
+GraphDomain graph_domain(const data::GaussianCloud& cloud, std::vector<uint32_t> gaussians,
+                         const std::vector<std::vector<uint32_t>>& rois) {
+    GraphDomain d;
+    d.domain = std::move(gaussians);
     order_domain(cloud, d);
     mark_rois(rois, d);
     return d;
@@ -309,38 +316,29 @@ uint64_t Segmenter::graph_capacity(const SegmentOptions& o) const {
     return o.graph_max_nodes ? std::min(capacity, o.graph_max_nodes) : capacity;
 }
 
-void Segmenter::ensure_graph(const GraphDomain& d, const GraphOptions& options) {
-    if (d.domain != graph_domain_ || !(options == graph_built_with_)) {
-        graph_.build(scene_, cloud_, d.domain, options);
-        graph_domain_ = d.domain;
-        graph_built_with_ = options;
-        warm_.clear();
-        node_grid_.reset();
-    }
-    if (!node_grid_) node_grid_.emplace(cloud_, d, graph_.cell_side(), true);
-}
-
 void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                             const std::vector<std::vector<uint32_t>>& rois,
                             const std::vector<std::vector<float>>& probabilities, SegmentResult& result) {
     std::vector<double> scales = roi_scales(o);
     const ColumnIndex& index = columns(objects.front()->roi);
     double margin = o.graph_margin;
-    GraphDomain d = graph_domain(cloud_, index, objects, rois, margin, std::max(scales.front(), 1.0));
+    auto gaussians = [&] { return domain_gaussians(cloud_, index, objects, margin, std::max(scales.front(), 1.0)); };
+    std::vector<uint32_t> in_domain = gaussians();
     const uint64_t capacity = graph_capacity(o);
     // Past the graph's limit or the click's budget, the margin narrows first (it costs least),
     // then the larger scales go: every node of a smaller domain beats every n-th node of a larger
     // one (2 M tiled guitar, lavapipe: a further click 10.2 s decimated at scale 2, 1.5 s at scale
-    // 1 alone).
+    // 1 alone). Only the domain taken is numbered.
     const uint64_t budget = o.graph_budget ? std::min(capacity, o.graph_budget) : capacity;
-    if (d.domain.size() > budget && margin > kNarrowMargin) {
+    if (in_domain.size() > budget && margin > kNarrowMargin) {
         margin = kNarrowMargin;
-        d = graph_domain(cloud_, index, objects, rois, margin, std::max(scales.front(), 1.0));
+        in_domain = gaussians();
     }
-    while (d.domain.size() > budget && scales.size() > 1) {
+    while (in_domain.size() > budget && scales.size() > 1) {
         scales.erase(scales.begin());
-        d = graph_domain(cloud_, index, objects, rois, margin, std::max(scales.front(), 1.0));
+        in_domain = gaussians();
     }
+    GraphDomain d = graph_domain(cloud_, std::move(in_domain), rois);
     if (d.domain.size() > capacity) {
         solve_decimated(o, objects, rois, probabilities, d, capacity, result);
         if (result.graph) result.graph->margin = margin;
@@ -352,7 +350,14 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     if (rebuild && early_coarse_answer(o, objects, d, result)) rest.on_coarse = nullptr;
     stop_if_cancelled(o.cancel);
     auto t0 = Clock::now();
-    ensure_graph(d, o.graph_options);
+    if (rebuild) {
+        graph_.build(scene_, cloud_, d.domain, o.graph_options);
+        graph_domain_ = d.domain;
+        graph_built_with_ = o.graph_options;
+        warm_.clear();
+        node_grid_.reset();
+    }
+    if (!node_grid_) node_grid_.emplace(cloud_, d, graph_.cell_side(), true);
     result.stage_ms["graph build"] += ms_since(t0);
 
     const uint32_t nodes = uint32_t(d.domain.size());
@@ -407,15 +412,14 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         // then that scale's margin could only cut the answers further (on the sample and the real
         // guitar both scales gave every object the same answer), so it is not solved.
         bool fits = f + 1 < scales.size();
-        auto within = [&](const ObjectResult& obj, double scale) {  // all but 1 % of the answer
-            size_t outside = 0;
-            for (auto [g, p] : obj.claims) outside += !in_column(obj.roi, glm::dvec3(cloud_.mean[g]), scale);
-            return outside * 100 <= obj.claims.size();
-        };
         for (size_t j = 0; j < objects.size(); ++j) {
             ObjectResult& obj = *objects[j];
             obj.scale_answers.emplace_back(scales[f], contrast[j + 1], obj.claims.size());
-            if (fits) fits = within(obj, scales[f + 1]);
+            if (fits) {
+                size_t outside = 0;
+                for (auto [g, p] : obj.claims) outside += !in_column(obj.roi, glm::dvec3(cloud_.mean[g]), scales[f + 1]);
+                fits = outside * 100 <= obj.claims.size();
+            }
             if (obj.claims.empty()) continue;  // no answer never wins
             if (f == 0 || best[j].empty() || !(best_contrast[j] < o.graph_scale_ratio * contrast[j + 1])) {
                 best[j] = std::move(obj.claims);

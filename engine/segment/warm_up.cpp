@@ -73,7 +73,7 @@ double warm_up(vk::Context& ctx, const SegmentOptions& options, size_t objects) 
     for (uint32_t w = 1; w <= widths; ++w) {
         data::Prompts prompts;
         for (size_t i = 0; i < (w == 1 ? 1 : 4 * (w - 1)); ++i) {
-            const glm::dvec2 at = *cam.project(s.tops[i]);  // the camera looks down on every cube
+            const glm::dvec2 at = cam.project(s.tops[i]).value();  // the camera looks down on every cube
             data::PromptClick click;
             click.view = cam.name;
             click.u = at.x;
