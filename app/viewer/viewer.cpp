@@ -145,6 +145,14 @@ void Viewer::load_in_window(const ViewerOptions& o) {
         done = true;
         glfwPostEmptyEvent();
     });
+    // A frame that fails here (a submission out of memory, a lost device) must not unwind past a
+    // loader still running: its thread would end the process with std::terminate, not one error.
+    struct JoinOnExit {
+        std::thread& t;
+        ~JoinOnExit() {
+            if (t.joinable()) t.join();
+        }
+    } join_on_exit{loader};
     while (!done) {
         glfwWaitEventsTimeout(0.1);
         int fw, fh;
