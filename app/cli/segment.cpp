@@ -42,6 +42,7 @@ struct SegmentArgs {
     seg::GraphOptions graph;
     seg::WalkOptions walk;
     float unary = 1.0f, unary_confidence = 0.97f, walk_sure = 0.7f;
+    double unary_clean = 0.1;
     uint32_t coarse = 8;
     uint64_t graph_max_nodes = 0, graph_budget = seg::SegmentOptions{}.graph_budget;
     double margin = seg::SegmentOptions{}.graph_margin;
@@ -119,6 +120,7 @@ void run_segment(const SegmentArgs& args) {
     else throw data::InputError("--walk-preconditioner", "expected jacobi or multigrid, got '" + a.preconditioner + "'");
     o.unary = a.unary;
     o.unary_confidence = a.unary_confidence;
+    o.unary_clean = a.unary_clean;
     o.coarse_stride = a.coarse;
     o.graph_max_nodes = a.graph_max_nodes;
     o.graph_budget = a.graph_budget;
@@ -284,6 +286,10 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--graph-scale-ratio", a->scale_ratio, "Graph: how much weaker (mean cut edge weight over mean inside edge weight) a larger ROI's boundary must be to win")->capture_default_str();
     cmd->add_option("--unary", a->unary, "ptv3+graph: strength of the network's probabilities, in units of a Gaussian's degree")->capture_default_str();
     cmd->add_option("--unary-confidence", a->unary_confidence, "ptv3+graph: the network's probabilities count only where its most likely label reaches this")->capture_default_str();
+    cmd->add_option("--unary-clean", a->unary_clean,
+                    "ptv3+graph: where the graph alone's answer cuts no edge (whole graph components), the network's answer stands if its boundary contrast is below this (0: never there)")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     cmd->add_option("--walk-iterations", a->walk.max_iterations, "Graph: most conjugate-gradient iterations")->capture_default_str();
     cmd->add_option("--walk-dense-labels", a->walk.dense_labels, "Graph: up to this many labels (objects + background) every node keeps every label's value; past it each node keeps its 16 largest (same labels, flat memory)")->capture_default_str();
     cmd->add_option("--walk-coarse", a->coarse, "Graph: a first solve on every n-th Gaussian (1: none): the viewer's early answer, and where a Jacobi-preconditioned solve starts (multigrid starts from the prior)")->capture_default_str();

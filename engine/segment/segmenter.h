@@ -80,6 +80,11 @@ struct SegmentOptions {
     double graph_scale_ratio = 0.25;
     float unary = 1.0f;           // ptv3+graph: a node's unary strength, in units of its degree,
     float unary_confidence = 0.97f;  // where the network's most likely label has at least this probability
+    // ptv3+graph: where the graph alone's answer cuts no edge (it is whole graph components: a
+    // house, the car parked against it and the crowns over its roof, all apart from the terrain),
+    // the graph holds no evidence of the object's boundary; there the network's answer stands if
+    // its own boundary contrast is below this (a clean cut, not one through the object's inside).
+    double unary_clean = 0.1;
     // Most nodes one graph may hold (0: what the device's largest binding allows, about 1.6 M at
     // k 10 on lavapipe). A larger domain is solved on every n-th node (see solve_decimated).
     uint64_t graph_max_nodes = 0;
@@ -118,7 +123,8 @@ struct ObjectResult {
     // clicks: P(foreground) > 1/2 at its positive clicks on average).
     bool network_trusted = false;
     // ptv3+graph: whether the answer solved with the network's prior stood (its boundary cut the
-    // graph no harder than the graph alone's answer did; see solve_graph), not the graph's own.
+    // graph no harder than the graph alone's answer did, or cleanly where that answer cut
+    // nothing; see network_stands), not the graph's own.
     bool network_answer = false;
     size_t fallback_clicks() const;
 };

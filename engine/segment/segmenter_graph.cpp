@@ -212,6 +212,15 @@ struct NodeLabels {
     uint32_t rounds = 0;
     size_t free_nodes = 0;
 };
+// ptv3+graph's choice per object between the answer solved with the network's prior and the
+// graph alone's, by their boundary contrasts: the network's stands where it cuts the graph no
+// harder, or, where the graph's answer cuts nothing at all (whole components, no boundary
+// evidence: seed 5153's residences lost houses to their cars and trees this way), where its cut
+// is clean (SegmentOptions::unary_clean).
+bool network_stands(double network, double graph, const SegmentOptions& o) {
+    return network <= graph || (graph == 0 && network < o.unary_clean);
+}
+
 NodeLabels walk_then_forest(SeededForest& forest, const KnnGraph& graph, std::vector<int32_t> seed, const WalkLabels& w,
                             float sure, const ForestOptions& fo, const std::vector<uint8_t>* seeded = nullptr) {
     for (size_t i = 0; i < seed.size(); ++i)
@@ -436,7 +445,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         const auto contrast = contrasts();
         for (size_t j = 0; j < objects.size(); ++j) {
             ObjectResult& obj = *objects[j];
-            obj.network_answer = !obj.claims.empty() && (best[j].empty() || contrast[j + 1] <= best_contrast[j]);
+            obj.network_answer = !obj.claims.empty() && (best[j].empty() || network_stands(contrast[j + 1], best_contrast[j], o));
             if (obj.network_answer) {
                 best[j] = std::move(obj.claims);
                 best_contrast[j] = contrast[j + 1];
@@ -545,7 +554,7 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
         const auto in_solved = present(solved), in_bare = present(bare);
         for (size_t j = 0; j < objects.size(); ++j) {
             ObjectResult& obj = *objects[j];
-            obj.network_answer = in_solved[j + 1] && (!in_bare[j + 1] || with_prior[j + 1] <= without[j + 1]);
+            obj.network_answer = in_solved[j + 1] && (!in_bare[j + 1] || network_stands(with_prior[j + 1], without[j + 1], o));
             if (!obj.network_answer) answer[j] = &bare;
             obj.boundary_contrast = obj.network_answer ? with_prior[j + 1] : without[j + 1];
         }

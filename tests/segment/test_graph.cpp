@@ -688,3 +688,74 @@ TEST_CASE("ptv3+graph: the network's answer stands where it cuts the graph no ha
         check_choice(segmenter, false, 0.9);
     }
 }
+
+TEST_CASE("ptv3+graph: where the graph's answer is a whole component, the network's clean cut stands") {
+    // A red ball with a blue one resting against it, floating alone: one graph component and no
+    // background seed anywhere, so the graph alone gives the click both balls and cuts no edge
+    // (contrast 0), as a house with the car parked against it and the trees over its roof.
+    data::GaussianCloud cloud;
+    std::vector<int32_t> truth;
+    ref::Rng rng(17);
+    const glm::vec3 colours[2] = {{0.9f, 0.1f, 0.1f}, {0.1f, 0.2f, 0.9f}};
+    for (int b = 0; b < 2; ++b)
+        for (int i = 0; i < 900; ++i) {
+            glm::vec3 d = glm::normalize(glm::vec3(rng.normal(), rng.normal(), rng.normal())) * 0.12f;
+            ref::add_gaussian(cloud, glm::vec3(0.23f * float(b), -1.0f, 0.0f) + d, glm::vec3(std::log(0.01f)),
+                              glm::vec4(1, 0, 0, 0), 4.0f, ref::dc_from_rgb(colours[b]));
+            truth.push_back(b + 1);
+        }
+    std::vector<data::Camera> cameras{ref::look_at_camera("front", {0.2, -1.5, -4}, {0.2, -1.0, 0}, {0, -1, 0}, 160, 120, 150, 150, 80, 60)};
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, cloud);
+    data::Prompts p;
+    p.objects.push_back({"red", 1, {point_click({-0.12, -1.0, 0.0})}});
+    seg::SegmentOptions o = balls_options();
+    o.graph_scales = {1.0};
+    auto solve = [&](const std::vector<int32_t>& network_truth, seg::GraphUse use, double clean, uint64_t max_nodes = 0) {
+        seg::GroundTruthDecoder network(network_truth);
+        seg::Segmenter segmenter(ctx, cloud, gpu, cameras, network);
+        auto with = o;
+        with.graph = use;
+        with.unary_clean = clean;
+        with.graph_max_nodes = max_nodes;
+        return segmenter.segment(p, with);
+    };
+    std::vector<int32_t> red_only = truth;
+    for (auto& t : red_only) t = t == 1 ? 1 : 0;
+    const seg::SegmentOptions defaults;
+    const double bound = defaults.unary_clean;
+    const auto graph = solve(red_only, seg::GraphUse::Alone, bound);
+    REQUIRE(graph.objects.size() == 1);
+    CHECK(graph.objects[0].boundary_contrast == 0.0);
+    CHECK(iou(graph.labels, 1, truth, 1) < 0.6);  // both balls
+    // The network cuts at the colour edge between the balls: its answer stands, the red ball alone.
+    const auto clean = solve(red_only, seg::GraphUse::Unary, bound);
+    CHECK(clean.objects[0].network_answer);
+    CHECK(clean.objects[0].boundary_contrast > 0.0);
+    CHECK(clean.objects[0].boundary_contrast < bound);
+    CHECK(iou(clean.labels, 1, truth, 1) > 0.95);
+    // The same where the domain is solved on every n-th node (past the node limit).
+    const auto decimated = solve(red_only, seg::GraphUse::Unary, bound, cloud.size() / 4);
+    REQUIRE(decimated.graph);
+    CHECK(decimated.graph->stride >= 2);
+    CHECK(decimated.objects[0].network_answer);
+    CHECK(iou(decimated.labels, 1, truth, 1) > 0.9);
+    // Off (0), the graph's answer stands as before.
+    const auto off = solve(red_only, seg::GraphUse::Unary, 0.0);
+    CHECK_FALSE(off.objects[0].network_answer);
+    CHECK(off.labels == graph.labels);
+    // A network that takes half the red ball cuts through its even colour: not clean,
+    // the graph's whole answer stands.
+    std::vector<int32_t> half = red_only;
+    for (size_t i = 0; i < half.size(); ++i)
+        if (half[i] == 1 && cloud.mean[i].x > 0.0f) half[i] = 0;
+    const auto inside = solve(half, seg::GraphUse::Unary, bound);
+    CHECK(inside.objects[0].network_trusted);
+    CHECK_FALSE(inside.objects[0].network_answer);
+    CHECK(inside.labels == graph.labels);
+    // (Its answer, let through by any bound: the half ball, its cut far above a clean one's.)
+    const auto through = solve(half, seg::GraphUse::Unary, 10.0);
+    CHECK(through.objects[0].network_answer);
+    CHECK(through.objects[0].boundary_contrast > 2.0 * bound);
+    CHECK(iou(through.labels, 1, half, 1) > 0.9);
+}
