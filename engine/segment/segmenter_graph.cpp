@@ -212,6 +212,7 @@ struct NodeLabels {
     uint32_t rounds = 0;
     size_t free_nodes = 0;
 };
+
 // ptv3+graph's choice per object between the answer solved with the network's prior and the
 // graph alone's, by their boundary contrasts: the network's stands where it cuts the graph no
 // harder, or, where the graph's answer cuts nothing at all (whole components, no boundary
