@@ -42,7 +42,7 @@ struct SegmentArgs {
     seg::GraphOptions graph;
     seg::WalkOptions walk;
     float unary = 1.0f, unary_confidence = 0.97f, walk_sure = 0.7f;
-    double unary_clean = 0.1;
+    double unary_clean = seg::SegmentOptions{}.unary_clean;
     uint32_t coarse = 8;
     uint64_t graph_max_nodes = 0, graph_budget = seg::SegmentOptions{}.graph_budget;
     double margin = seg::SegmentOptions{}.graph_margin;
@@ -282,7 +282,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--graph-max-nodes", a->graph_max_nodes, "Graph: most nodes one graph holds (0: what the device's largest binding allows); a larger domain is solved on every n-th Gaussian, the rest labelled as their nearest solved one")->capture_default_str();
     cmd->add_option("--graph-budget", a->graph_budget, "Graph: a click's budget in nodes; past it the margin narrows to 0.1, then the larger --graph-scales are left out (before any decimation), so a click costs about what the ROIs at the smallest scale hold (0: no budget)")->capture_default_str();
     cmd->add_option("--graph-margin", a->margin, "Graph: the solve's domain is the largest scaled ROIs widened by this fraction per side; what lies in the margin seeds the background")->capture_default_str();
-    cmd->add_option("--graph-scales", a->scales, "Graph: the background's boundary at each object's ROI scaled by each of these, one solve each; per object the smallest scale's answer stands unless a larger one's boundary contrast is below --graph-scale-ratio times its own; ptv3+graph then solves the largest once more with the network's prior, whose answer stands per object where its boundary contrast is no higher than the chosen one's")->delimiter(',')->capture_default_str();
+    cmd->add_option("--graph-scales", a->scales, "Graph: the background's boundary at each object's ROI scaled by each of these, one solve each; per object the smallest scale's answer stands unless a larger one's boundary contrast is below --graph-scale-ratio times its own; ptv3+graph then solves the largest once more with the network's prior, whose answer stands per object where its boundary contrast is no higher than the chosen one's (or below --unary-clean where the chosen one's is 0)")->delimiter(',')->capture_default_str();
     cmd->add_option("--graph-scale-ratio", a->scale_ratio, "Graph: how much weaker (mean cut edge weight over mean inside edge weight) a larger ROI's boundary must be to win")->capture_default_str();
     cmd->add_option("--unary", a->unary, "ptv3+graph: strength of the network's probabilities, in units of a Gaussian's degree")->capture_default_str();
     cmd->add_option("--unary-confidence", a->unary_confidence, "ptv3+graph: the network's probabilities count only where its most likely label reaches this")->capture_default_str();

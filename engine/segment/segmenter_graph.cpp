@@ -377,7 +377,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     // contrast. With the network (ptv3+graph), one more solve at the largest scale with its prior
     // (its cuts make every answer's contrast high, so it takes no part in the choice between
     // scales): per object it stands where its boundary cuts the graph no harder than the graph's
-    // answer does. The network is confidently wrong on parts of objects unlike its training data
+    // answer does, or cleanly where that answer cuts nothing (network_stands). The network is confidently wrong on parts of objects unlike its training data
     // (a car's far end: fresh seed 6201, vehicles 3D IoU 95.2 with the prior always, 97.5 with
     // the rule, the graph alone 97.5) and right about what the graph cannot see (a tree against a
     // house's dark roof: residence 87.5, the graph alone 83.9).
@@ -531,8 +531,7 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
         report.residual = cs.walk.residual;
     }
     const Subsample solved = label_subsample(cs.problem, cs.x, report);
-    // ptv3+graph, as solve_graph has it: per object the network's answer stands where its
-    // boundary cuts the (subsample's) graph no harder than the graph alone's answer does.
+    // ptv3+graph, as solve_graph has it (network_stands), on the subsample's graph.
     std::vector<const Subsample*> answer(objects.size(), &solved);
     Subsample bare;
     if (o.graph == GraphUse::Unary) {
