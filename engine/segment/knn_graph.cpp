@@ -54,7 +54,7 @@ std::string knn_kernel(uint32_t k) {
 KnnGraph::KnnGraph(vk::Context& ctx) : ctx_(ctx), cmd_(ctx), sort_(ctx), scan_(ctx) {
     for (auto* b : {&domain_buf_, &pos_, &colour_, &normal_, &keys_, &values_, &nbr_, &dist_, &spacing_, &weight_, &reverse_count_,
                     &columns_, &adjacency_weights_,
-                    &rows_, &degree_, &row_start_, &sorted_})
+                    &rows_, &degree_, &row_start_, &sorted_, &short_})
         *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "graph");
 }
 
@@ -137,7 +137,10 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     degree_.ensure(uint64_t(n) * 4);
 
     gpu::GraphNodesPush nodes_push{{n, scene.sh_words(), scene.half_sh() ? 1u : 0u, 0}};
-    gpu::GraphGridPush grid{glm::vec4(lo, 1.0f / cell_), glm::uvec4(dims, o.shells), glm::uvec4(bits.x, bits.y, n, k)};
+    gpu::GraphGridPush grid{glm::vec4(lo, 1.0f / cell_), glm::uvec4(dims, o.shells), glm::uvec4(bits.x, bits.y, n, k), {0, 0, 0, 0}};
+    gpu::GraphGridPush further = grid;
+    further.pass.x = 1;
+    short_.ensure((4ull + n) * 4);
     gpu::GraphWeightsPush wpush{glm::vec4(o.colour, o.normal, o.distance, o.opacity), {n, k, 0, 0}};
     gpu::GraphEdgesPush epush{{n, k, uint32_t(entries), 0}};
     const auto graph_groups = [](uint64_t items) { return vk::ceil_div(items, gpu::kGraphGroup); };
@@ -174,7 +177,11 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     scan_.exclusive(cmd_, row_start_, row_start_, grid_rows + 1);
     cmd_.dispatch("segment/graph_sorted", {pos_, values_, sorted_}, grid, graph_groups(n));
     cmd_.begin_pass("graph knn");
-    cmd_.dispatch(knn_kernel(k), {sorted_, keys_, row_start_, nbr_, dist_, spacing_}, grid, graph_groups(n));
+    // The first shell for every node, then the further shells for those it left short of k.
+    const uint32_t second_pass[4] = {0, 1, 1, 0};
+    cmd_.update(short_, second_pass, sizeof second_pass);
+    cmd_.dispatch(knn_kernel(k), {sorted_, keys_, row_start_, nbr_, dist_, spacing_, short_}, grid, graph_groups(n));
+    if (o.shells > 1) cmd_.dispatch_indirect(knn_kernel(k), {sorted_, keys_, row_start_, nbr_, dist_, spacing_, short_}, further, short_);
     cmd_.begin_pass("graph weights");
     cmd_.dispatch("segment/graph_weights", {pos_, colour_, normal_, nbr_, dist_, spacing_, weight_}, wpush, graph_groups(nk));
     // W + W^T with each pair once: a row is the node's own slots (already grouped) and the slots

@@ -79,6 +79,7 @@ private:
     vk::Buffer domain_buf_, pos_, colour_, normal_, keys_, values_, nbr_, dist_, spacing_, weight_, rows_, degree_;
     vk::Buffer reverse_count_;  // per node: slots of the reverse half its row receives
     vk::Buffer row_start_, sorted_;  // the grid's rows of cells along x, nodes in cell order
+    vk::Buffer short_;               // graph_knn's second pass: its dispatch, then the nodes short of k
     vk::Buffer columns_, adjacency_weights_;
     std::vector<uint32_t> domain_;
     mutable std::vector<uint32_t> host_nbr_;      // empty until asked for after a build

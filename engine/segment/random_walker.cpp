@@ -26,7 +26,7 @@ std::string walk_kernel(const char* name, uint32_t labels) {
 }  // namespace
 
 RandomWalker::RandomWalker(vk::Context& ctx) : ctx_(ctx), cmd_(ctx) {
-    for (auto* b : {&seed_, &gamma_, &prior_, &x_, &b_, &inv_diag_, &coupling_, &r_, &z_, &p_, &ap_, &partials_, &scalars_, &check_, &best_x_, &edge_weights_, &coarse_inverse_})
+    for (auto* b : {&seed_, &gamma_, &prior_, &x_, &b_, &inv_diag_, &coupling_, &r_, &z_, &p_, &ap_, &partials_, &scalars_, &check_, &check_partials_, &best_x_, &edge_weights_, &coarse_inverse_})
         *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "random walker");
 }
 
@@ -232,6 +232,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
     const uint32_t most_width = (most + 3) / 4 * 4;
     for (auto* b : {&prior_, &x_, &b_, &r_, &z_, &p_, &ap_, &best_x_}) b->ensure(uint64_t(n) * most_width * 4);
     partials_.ensure(uint64_t(node_groups) * gpu::kWalkMaxLabels * 4);
+    check_partials_.ensure(uint64_t(node_groups) * gpu::kWalkMaxLabels * 4);
     scalars_.ensure(uint64_t(gpu::kWalkMaxLabels) * sizeof(gpu::WalkScalars));
     check_.ensure(uint64_t(gpu::kWalkMaxLabels) * sizeof(gpu::WalkScalars));
     timings_.clear();
@@ -295,8 +296,11 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
                 // r = b - A x, pre-smoothing z = smoother r (walk_residual with the smoother for
                 // 1/diag), the V-cycle, r.z, and p = z (beta is 0 at the start).
                 cmd_.begin_pass("walk multigrid start");
-                cmd_.dispatch(walk_kernel("segment/walk_residual", labels), {b_, ap_, levels_[0].smoother, r_, levels_[0].pre, p_, partials_}, push[0],
-                              node_groups);
+                // walk_residual's r . pre (pre = smoother r) is the stop test's measure; the cycle's
+                // last sweep then writes r . z to partials_.
+                cmd_.dispatch(walk_kernel("segment/walk_residual", labels), {b_, ap_, levels_[0].smoother, r_, levels_[0].pre, p_, check_partials_},
+                              push[0], node_groups);
+                cmd_.dispatch("segment/walk_reduce", {check_partials_, check_}, push[0], reduce_groups);
                 record_cycle(graph, labels, o.coarse_scale);
                 cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[0], reduce_groups);
                 cmd_.dispatch(walk_kernel("segment/walk_direction", labels), {scalars_, z_, p_}, push[0], node_groups);
@@ -307,32 +311,28 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
             }
             cmd_.end_pass();
 
-            // Multigrid converges in a few tens of iterations: a long wait between checks would
-            // overshoot by a large share of the solve, so (unless told) it checks every 5, or sooner
-            // when the rate seen so far says fewer are left (the rate is not steady enough to
-            // wait longer on its word).
-            const bool predict = multigrid && o.check_every == 0;
-            uint32_t check_every = o.check_every ? o.check_every : multigrid ? 5 : 25;
+            // Multigrid gets there in a handful of iterations of tens of ms each, and a check (a
+            // reduction and a wait) costs about a ms: it checks after every iteration, never
+            // overshooting (every 5 ran a solve done at 6 to 10 unless the rate foresaw it). Jacobi's
+            // iterations are cheap: every 25.
+            const uint32_t check_every = o.check_every ? o.check_every : multigrid ? 1 : 25;
             it = 0;
-            uint32_t last_it = 0, best_it = 0;
-            double residual = 0, last = 0;
+            uint32_t best_it = 0;
+            double residual = 0;
             best.assign(labels, 1e300);
             column.assign(labels, 0.0);
             for (;;) {
-                if (multigrid) {
-                    // The stop test measures r . r / diag, as the Jacobi solve does (see walk_check), over
-                    // the nodes in the hierarchy: level 0's smoother is omega / diag there and 0 on the
-                    // components it leaves out (no seed or prior: they keep their start, whatever their r).
-                    cmd_.begin_pass("walk check");
-                    cmd_.dispatch(walk_kernel("segment/walk_check", labels), {r_, levels_[0].smoother, partials_}, push[0], node_groups);
-                    cmd_.dispatch("segment/walk_reduce", {partials_, check_}, push[0], reduce_groups);
-                    cmd_.end_pass();
-                }
                 cmd_.submit_and_wait();
                 for (auto& t : cmd_.timings()) timings_.push_back(t);
                 stop_if_cancelled(o.cancel);
                 auto s = vk::download_vector<gpu::WalkScalars>(ctx_, scalars_, labels);
                 if (multigrid) {
+                    // The stop test measures r . r / diag, as the Jacobi solve does, over the nodes in
+                    // the hierarchy: level 0's smoother is omega / diag there and 0 on the components it
+                    // leaves out (no seed or prior: they keep their start, whatever their r). r . Br of
+                    // a V-cycle would grow with the operator's conditioning, asking far more of an
+                    // ill-posed scene than of an easy one at the same tolerance. walk_residual (the
+                    // start) and walk_update (each step) leave it in check_.
                     const auto c = vk::download_vector<gpu::WalkScalars>(ctx_, check_, labels);
                     for (uint32_t l = 0; l < labels; ++l) s[l].value.x = c[l].value.x / o.hierarchy.omega;
                 }
@@ -352,30 +352,24 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
                 if (improved) best_it = it;
                 if (residual <= o.tolerance || it >= o.max_iterations) break;
                 if (multigrid && it >= best_it + 15) break;
-                if (predict && it > last_it && residual < last) {
-                    const double rate = std::log(residual / last) / double(it - last_it);
-                    check_every = uint32_t(std::clamp(std::ceil(std::log(o.tolerance / residual) / rate), 1.0, 5.0));
-                }
-                last = residual, last_it = it;
                 cmd_.begin_pass("walk iterations");
-                if (multigrid && improved) {
-                    gpu::WalkPush keep = push[0];
-                    keep.mode.z = improved;
-                    cmd_.dispatch(walk_kernel("segment/walk_keep", labels), {x_, best_x_}, keep, node_groups);
-                }
                 for (uint32_t c = 0; c < check_every && it < o.max_iterations; ++c, ++it) {
                     cmd_.dispatch(walk_kernel("segment/walk_apply", labels), {rows, columns, edge_weights_, coupling_, seed_, p_, ap_, partials_}, push[1],
                                   node_groups);
                     cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[1], reduce_groups);
                     if (multigrid) {
                         // walk_update's z = smoother r is the V-cycle's pre-smoothing on level 0
-                        // (its dots go unused: the cycle's last sweep writes r . z).
-                        cmd_.dispatch(walk_kernel("segment/walk_update", labels), {scalars_, p_, ap_, levels_[0].smoother, x_, r_, levels_[0].pre, partials_},
-                                      push[0], node_groups);
+                        // (its dots are the stop test's; the cycle's last sweep writes r . z). The first
+                        // step after a check keeps the columns that improved in best_x_.
+                        gpu::WalkPush update = push[0];
+                        update.mode.z = c == 0 ? improved : 0u;
+                        cmd_.dispatch(walk_kernel("segment/walk_update", labels),
+                                      {scalars_, p_, ap_, levels_[0].smoother, x_, r_, levels_[0].pre, check_partials_, best_x_}, update, node_groups);
+                        cmd_.dispatch("segment/walk_reduce", {check_partials_, check_}, push[0], reduce_groups);
                         record_cycle(graph, labels, o.coarse_scale);
                     } else {
-                        cmd_.dispatch(walk_kernel("segment/walk_update", labels), {scalars_, p_, ap_, inv_diag_, x_, r_, z_, partials_}, push[0],
-                                      node_groups);
+                        cmd_.dispatch(walk_kernel("segment/walk_update", labels), {scalars_, p_, ap_, inv_diag_, x_, r_, z_, partials_, best_x_},
+                                      push[0], node_groups);
                     }
                     cmd_.dispatch("segment/walk_reduce", {partials_, scalars_}, push[2], reduce_groups);
                     cmd_.dispatch(walk_kernel("segment/walk_direction", labels), {scalars_, z_, p_}, push[0], node_groups);

@@ -171,14 +171,15 @@ struct GraphDomain {
     glm::vec3 lo{0.0f}, hi{0.0f};  // the nodes' bounding box
 };
 
-// What the host reads per node of a domain: centres and a hash grid over them (each click's
-// nearest node) and, with `appearance`, colours of the SH DC term and opacities (the bridges).
-// The fine graph's is made once per graph.
-struct NodeGrid {
-    std::vector<glm::vec3> position;  // per node (the grid keeps a view of it)
+// What the host reads per node of a domain: centres and, with `appearance`, colours of the SH DC
+// term and opacities (the bridges). The fine graph's is made once per graph.
+struct DomainNodes {
+    std::vector<glm::vec3> position;  // per node
     std::vector<float> appearance;    // per node: r, g, b, opacity (empty without `appearance`)
-    std::unique_ptr<data::clicks::PointGrid> grid;
-    NodeGrid(const data::GaussianCloud& cloud, const GraphDomain& d, float cell, bool appearance);
+    DomainNodes(const data::GaussianCloud& cloud, const GraphDomain& d, bool appearance);
+    // Per point the node whose centre is nearest (ties: the lowest node): a scan for a few points,
+    // a hash grid of side `cell` for many.
+    std::vector<uint32_t> nearest(const std::vector<glm::vec3>& points, float cell) const;
 };
 
 class Segmenter {
@@ -211,10 +212,10 @@ private:
     void solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                      const std::vector<std::vector<uint32_t>>& rois, const std::vector<std::vector<float>>& probabilities,
                      SegmentResult& result);
-    // Each click seeds its nearest node (in `nodes`, a grid over d's nodes) and that node's
-    // neighbours with its object's label (with `nbr` null: the nearest nodes alone).
+    // Each click seeds its nearest node (of d's `domain_nodes`) and that node's neighbours with its
+    // object's label (with `nbr` null: the nearest nodes alone); `cell` sizes a search grid.
     void seed_clicks(const std::vector<ObjectResult*>& objects, const GraphDomain& d, const std::vector<uint32_t>* nbr,
-                     const NodeGrid& nodes, WalkProblem& pr) const;
+                     const DomainNodes& domain_nodes, float cell, WalkProblem& pr) const;
     // The coarse answer before the fine graph is built, where the options want one and the
     // decoder allows it (graph alone, a walk); false if it was not given.
     bool early_coarse_answer(const SegmentOptions& o, const std::vector<ObjectResult*>& objects, const GraphDomain& d,
@@ -283,7 +284,7 @@ private:
     SeededForest forest_;
     std::vector<uint32_t> graph_domain_;  // the domain graph_ was built over, and with which options
     GraphOptions graph_built_with_;
-    std::optional<NodeGrid> node_grid_;   // over graph_'s nodes, made once per graph
+    std::optional<DomainNodes> nodes_;    // graph_'s nodes, made once per graph
     std::optional<ColumnIndex> columns_;
     // Per ROI scale, the last walk's answer (a column per label id in ids, 0: background), for
     // warm starts: a scale starts from its own last answer, never from another scale's.

@@ -364,10 +364,11 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         graph_.build(scene_, cloud_, d.domain, o.graph_options);
         graph_domain_ = d.domain;
         graph_built_with_ = o.graph_options;
+        for (const auto& t : graph_.timings()) result.stage_ms["graph build gpu"] += t.ms;
         warm_.clear();
-        node_grid_.reset();
+        nodes_.reset();
     }
-    if (!node_grid_) node_grid_.emplace(cloud_, d, graph_.cell_side(), true);
+    if (!nodes_) nodes_.emplace(cloud_, d, true);
     result.stage_ms["graph build"] += ms_since(t0);
 
     const uint32_t nodes = uint32_t(d.domain.size());
@@ -397,7 +398,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         t0 = Clock::now();
         scale_rois(cloud_, objects, scale, d);
         WalkProblem pr = margin_problem(d, objects.size());
-        seed_clicks(objects, d, &nbr, *node_grid_, pr);
+        seed_clicks(objects, d, &nbr, *nodes_, graph_.cell_side(), pr);
         if (prior) network_prior(o, objects, rois, probabilities, d, &graph_.host_adjacency().degree, pr);
         result.stage_ms["graph seeds"] += ms_since(t0);
         for (auto* obj : objects) obj->claims.clear();
@@ -473,13 +474,13 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
     if (early_coarse_answer(o, objects, d, result)) rest.on_coarse = nullptr;
     stop_if_cancelled(o.cancel);
     graph_domain_.clear();  // graph_ does not hold this domain: the next click builds again
-    node_grid_.reset();
+    nodes_.reset();
     warm_.clear();
 
     auto t0 = Clock::now();
     const uint32_t nodes = uint32_t(d.domain.size());
     WalkProblem pr = margin_problem(d, objects.size());
-    seed_clicks(objects, d, nullptr, NodeGrid(cloud_, d, node_cell(d), false), pr);
+    seed_clicks(objects, d, nullptr, DomainNodes(cloud_, d, false), node_cell(d), pr);
     if (o.graph == GraphUse::Unary) network_prior(o, objects, rois, probabilities, d, nullptr, pr);
     const uint64_t clicked = uint64_t(std::count_if(pr.seed.begin(), pr.seed.end(), [](int32_t v) { return v > 0; }));
     if (clicked + 64 >= capacity)
@@ -583,17 +584,37 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
     result.stage_ms["graph solve"] += ms_since(t0);
 }
 
-NodeGrid::NodeGrid(const data::GaussianCloud& cloud, const GraphDomain& d, float cell, bool with_appearance)
+DomainNodes::DomainNodes(const data::GaussianCloud& cloud, const GraphDomain& d, bool with_appearance)
     : position(d.domain.size()) {
-    std::vector<uint32_t> all(d.domain.size());
-    for (uint32_t i = 0; i < all.size(); ++i) position[i] = cloud.mean[d.domain[i]], all[i] = i;
-    grid = std::make_unique<data::clicks::PointGrid>(position, all, std::max(cell, 1e-6f));
+    for (uint32_t i = 0; i < position.size(); ++i) position[i] = cloud.mean[d.domain[i]];
     // Neither group reads the up axis.
     if (with_appearance) appearance = data::semantic::raw_gaussian_features(cloud, d.domain, {"rgb", "opacity"}, {0, 0, 1});
 }
 
+std::vector<uint32_t> DomainNodes::nearest(const std::vector<glm::vec3>& points, float cell) const {
+    std::vector<uint32_t> out(points.size(), 0);
+    if (position.empty() || points.empty()) return out;
+    // A scan costs nodes x points; a hash grid over 150 k nodes costs about what 30 points' scans do.
+    if (points.size() <= 16) {
+        std::vector<double> best(points.size(), 1e300);
+        for (uint32_t i = 0; i < position.size(); ++i) {
+            const glm::dvec3 p(position[i]);
+            for (size_t c = 0; c < points.size(); ++c) {
+                const glm::dvec3 e = p - glm::dvec3(points[c]);
+                if (const double d2 = glm::dot(e, e); d2 < best[c]) best[c] = d2, out[c] = i;
+            }
+        }
+        return out;
+    }
+    std::vector<uint32_t> all(position.size());
+    for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+    const data::clicks::PointGrid grid(position, all, std::max(cell, 1e-6f));
+    for (size_t c = 0; c < points.size(); ++c) grid.nearest(points[c], 0xFFFFFFFFu, 1 << 20, &out[c]);
+    return out;
+}
+
 void Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const GraphDomain& d,
-                            const std::vector<uint32_t>* nbr, const NodeGrid& node_grid, WalkProblem& pr) const {
+                            const std::vector<uint32_t>* nbr, const DomainNodes& domain_nodes, float cell, WalkProblem& pr) const {
     const uint32_t nodes = uint32_t(d.domain.size());
     const std::vector<int32_t>& node_of = d.node_of;
     // A click seeds the Gaussian whose centre is nearest to its 3D point and that Gaussian's graph
@@ -606,13 +627,15 @@ void Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const Gra
         int32_t label;
     };
     std::vector<ClickSeed> clicks;
+    std::vector<glm::vec3> points;
     for (size_t j = 0; j < objects.size(); ++j)
         for (auto& a : objects[j]->anchors) {
             if (a.gaussian < 0 || node_of[size_t(a.gaussian)] < 0) continue;
-            uint32_t i = uint32_t(node_of[size_t(a.gaussian)]);  // kept if no node is near the point
-            node_grid.grid->nearest(glm::vec3(a.position), 0xFFFFFFFFu, 8, &i);
-            clicks.push_back({i, a.positive ? int32_t(j + 1) : 0});
+            clicks.push_back({0, a.positive ? int32_t(j + 1) : 0});
+            points.push_back(glm::vec3(a.position));
         }
+    const std::vector<uint32_t> nearest = domain_nodes.nearest(points, cell);
+    for (size_t c = 0; c < clicks.size(); ++c) clicks[c].node = nearest[c];
     if (nbr)
         for (auto [i, label] : clicks)
             for (uint32_t t = 0; t < k; ++t)
@@ -631,7 +654,7 @@ bool Segmenter::early_coarse_answer(const SegmentOptions& o, const std::vector<O
         return false;
     auto t0 = Clock::now();
     WalkProblem early = margin_problem(d, objects.size());
-    seed_clicks(objects, d, nullptr, NodeGrid(cloud_, d, node_cell(d), false), early);
+    seed_clicks(objects, d, nullptr, DomainNodes(cloud_, d, false), node_cell(d), early);
     // The full solve's rule on the coarse graph (walk, and forest where the walk is unsure),
     // carried to every node by its nearest coarse node. The coarse nodes are every n-th in
     // Morton order, a uniform spatial subsample: thin parts keep their nodes (every n-th in scene
@@ -820,33 +843,49 @@ void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uin
     for (uint32_t i = 0; i < nodes; ++i)
         if (seeded[i]) members.push_back(i);
     if (members.empty() || members.size() == nodes) return;
-    if (!node_grid_ || node_grid_->appearance.size() != size_t(nodes) * 4)
+    if (!nodes_ || nodes_->appearance.size() != size_t(nodes) * 4)
         throw std::logic_error("bridge_components: no node data for this domain");
-    const std::vector<glm::vec3>& position = node_grid_->position;
-    const float* appearance = node_grid_->appearance.data();  // r, g, b, opacity per node
+    const std::vector<glm::vec3>& position = nodes_->position;
+    const float* appearance = nodes_->appearance.data();  // r, g, b, opacity per node
     auto colour = [&](uint32_t i) { return glm::vec3(appearance[4 * i], appearance[4 * i + 1], appearance[4 * i + 2]); };
     auto opacity = [&](uint32_t i) { return appearance[4 * i + 3]; };
     const GraphOptions& go = o.graph_options;
     const double spacing = double(graph_.median_spacing()) * go.distance;
     constexpr int kReach = 4;  // grid cells
     const float cell = std::max(graph_.cell_side(), 1e-6f);
-    data::clicks::PointGrid grid(position, members, cell);
-    // Blocks of kReach cells that hold a seeded node: a node with none in the 27 blocks about its
-    // own has no bridge, found without a search (most of a far, unseeded piece's nodes).
+    // Blocks of kReach cells. An unseeded node with no seeded node in its block or the 26 about it
+    // has no bridge, found without a search (most of a far, unseeded piece's nodes). The search
+    // (kReach rings of cells: less than 2 blocks) indexes only the seeded nodes within 2 blocks of
+    // an unseeded one: the answers of a search over all of them, at one set lookup per node.
     auto block_of = [&](const glm::vec3& p) { return glm::ivec3(glm::floor(p / (float(kReach) * cell))); };
     auto block_key = [](glm::ivec3 b) {
         return (uint64_t(uint32_t(b.x) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(b.y) & 0x1FFFFF) << 21) | uint64_t(uint32_t(b.z) & 0x1FFFFF);
     };
-    std::unordered_set<uint64_t> seeded_blocks;
-    for (uint32_t i : members) seeded_blocks.insert(block_key(block_of(position[i])));
-    auto near_seeded = [&](const glm::vec3& p) {
-        const glm::ivec3 b = block_of(p);
-        for (int z = -1; z <= 1; ++z)
-            for (int y = -1; y <= 1; ++y)
-                for (int x = -1; x <= 1; ++x)
-                    if (seeded_blocks.count(block_key(b + glm::ivec3(x, y, z)))) return true;
-        return false;
+    std::vector<uint64_t> block(nodes);
+    std::unordered_set<uint64_t> seeded_blocks, unseeded_blocks;
+    for (uint32_t i = 0; i < nodes; ++i) {
+        block[i] = block_key(block_of(position[i]));
+        (seeded[i] ? seeded_blocks : unseeded_blocks).insert(block[i]);
+    }
+    auto about = [&](const std::unordered_set<uint64_t>& blocks, int reach) {
+        std::unordered_set<uint64_t> out;
+        for (uint64_t key : blocks) {
+            // The key's fields back to a block (21-bit two's complement), then its neighbours.
+            auto field = [&](int shift) { return int32_t(uint32_t(key >> shift) << 11) >> 11; };
+            const glm::ivec3 b(field(42), field(21), field(0));
+            for (int z = -reach; z <= reach; ++z)
+                for (int y = -reach; y <= reach; ++y)
+                    for (int x = -reach; x <= reach; ++x) out.insert(block_key(b + glm::ivec3(x, y, z)));
+        }
+        return out;
     };
+    const auto near_seeded = about(seeded_blocks, 1), near_unseeded = about(unseeded_blocks, 2);
+    // members[0] first, wherever it lies: the grid's cells start at its first point, and the
+    // search's reach (kReach rings of them) must be the full grid's.
+    std::vector<uint32_t> ends{members[0]};
+    for (uint32_t i : members)
+        if (i != members[0] && near_unseeded.count(block[i])) ends.push_back(i);
+    data::clicks::PointGrid grid(position, ends, cell);
     // Each unseeded node's bridge (far end, weight), then component by component (nodes grouped
     // by root): memory stays one label vector, whatever the number of labels and components.
     std::vector<uint32_t> end(nodes, 0), unseeded;
@@ -854,7 +893,7 @@ void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uin
     for (uint32_t i = 0; i < nodes; ++i) {
         if (seeded[i]) continue;
         unseeded.push_back(i);
-        if (!near_seeded(position[i])) continue;
+        if (!near_seeded.count(block[i])) continue;
         const double d2 = grid.nearest(position[i], 0xFFFFFFFFu, kReach, &end[i]);
         if (d2 < 0) continue;
         const glm::vec3 dc = colour(i) - colour(end[i]);

@@ -9,7 +9,9 @@
 // share of the scene (thousands of Gaussians collapsed onto one point) would otherwise make the
 // search quadratic. Real and synthetic scenes scan at most ~300 (median 18-43).
 // Invocations take the nodes in sorted order, so a SIMD group's lanes share cells: their loops
-// run about as long and their loads hit the same lines.
+// run about as long and their loads hit the same lines. The further shells run as a second pass
+// (pass.x 1) over the few nodes the first (pass.x 0) listed as short of k: in one pass a SIMD
+// group waits on its sparsest lane's shells (the 150 k guitar's search: 106 ms in one pass).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "common/dispatch.glsl"
@@ -23,6 +25,8 @@ layout(std430, binding = 2) readonly buffer RowStart { uint row_start[]; };   //
 layout(std430, binding = 3) writeonly buffer Nbr { uint nbr[]; };       // k per node, kGraphNone if fewer
 layout(std430, binding = 4) writeonly buffer Dist { float dist[]; };    // k per node
 layout(std430, binding = 5) writeonly buffer Spacing { float spacing[]; };
+// [0..2] the second pass's dispatch (x: groups), [3] how many are listed, then their sorted indices.
+layout(std430, binding = 6) buffer Short { uint short_list[]; };
 layout(push_constant) uniform Push { GraphGridPush pc; };
 // The lists' length, built per bound on k (shaders/CMakeLists.txt): every list entry costs each
 // insertion a compare-and-swap, so lists longer than k cost time for nothing (at k 10, lists of
@@ -41,9 +45,16 @@ uint lower_bound(uint key, uint lo, uint hi) {
 }
 
 void main() {
-    uint g = pg_global_index();
     uint n = pc.bits.z, k = pc.bits.w;
-    if (g >= n) return;
+    uint g;
+    if (pc.pass.x == 0u) {
+        g = pg_global_index();
+        if (g >= n) return;
+    } else {
+        uint t = gl_GlobalInvocationID.x;
+        if (t >= short_list[3]) return;
+        g = short_list[4u + t];
+    }
     uvec4 own = sorted_pos[g];
     uint i = own.w;
     vec3 p = uintBitsToFloat(own.xyz);
@@ -55,7 +66,8 @@ void main() {
     uint worst_j = kGraphNone;
     uint found = 0u, scanned = 0u;
     int shells = int(min(max(pc.dims.w, 1u), kGraphMaxShells));
-    for (int ring = 0; ring <= shells && (ring <= 1 || found < k); ++ring)
+    int last = pc.pass.x == 0u ? 1 : shells;
+    for (int ring = 0; ring <= last && (ring <= 1 || found < k); ++ring)
         for (int dz = -ring; dz <= ring; ++dz)
             for (int dy = -ring; dy <= ring; ++dy) {
                 // Ring 0 is the node's cell, ring r the shell of cells r steps away. Cells adjacent
@@ -100,6 +112,12 @@ void main() {
                     }
                 }
             }
+    if (pc.pass.x == 0u && found < k && shells > 1) {
+        uint slot = atomicAdd(short_list[3], 1u);
+        short_list[4u + slot] = g;
+        if (slot % gl_WorkGroupSize.x == 0u) atomicAdd(short_list[0], 1u);
+        return;
+    }
     float sum = 0.0;
     [[unroll]] for (uint t = 0u; t < KNN_K; ++t) {
         if (t >= k) break;

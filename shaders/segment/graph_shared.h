@@ -36,6 +36,8 @@ struct GraphGridPush {
     uvec4 dims;   // cells along x, y, z (a cell key packs x | y << bits.x | z << (bits.x + bits.y));
                   // w: shells of cells searched (beyond the first only while short of k)
     uvec4 bits;   // x, y: key bits of the x and y coordinates; z: nodes; w: k
+    uvec4 pass;   // graph_knn: x 0 every node, the first shell only (listing the nodes short of k
+                  // when dims.w > 1); x 1 the listed nodes, every shell
 };
 
 // graph_weights: affinity of an edge = colour x distance x normal x opacity terms.

@@ -1,5 +1,9 @@
 #version 450
-// Conjugate gradient step: x += alpha p, r -= alpha Ap, z = r / diag, partial dots r . z.
+// Conjugate gradient step: x += alpha p, r -= alpha Ap, z = r / diag, partial dots r . z; first
+// the columns named by mode.z's bits (bit l: column l of this solve) keep x in best, as it was
+// before the step (a multigrid solve that stalls or blows up on one column answers with that
+// column's best iterate, while the others go on converging). With the multigrid smoother
+// (omega / diag) for 1 / diag, r . z is the stop test's measure r . r / diag times omega.
 #extension GL_GOOGLE_include_directive : require
 #include "common/dispatch.glsl"
 #include "segment/graph_shared.h"
@@ -13,6 +17,7 @@ layout(std430, binding = 4) buffer X { vec4 x[]; };
 layout(std430, binding = 5) buffer R { vec4 r[]; };
 layout(std430, binding = 6) writeonly buffer Z { vec4 z[]; };
 layout(std430, binding = 7) writeonly buffer Partials { vec4 partials[]; };
+layout(std430, binding = 8) buffer Best { vec4 best[]; };
 layout(push_constant) uniform Push { WalkPush pc; };
 #include "segment/walk_common.glsl"
 
@@ -27,7 +32,10 @@ void main() {
             uint at = i * vecs + c;
             vec4 alpha = vec4(scalars[4u * c].value.y, scalars[4u * c + 1u].value.y, scalars[4u * c + 2u].value.y,
                               scalars[4u * c + 3u].value.y);
-            x[at] += alpha * p[at];
+            vec4 xi = x[at];
+            uint keep = pc.mode.z >> (4u * c);
+            if ((keep & 15u) != 0u) best[at] = mix(best[at], xi, vec4(bvec4(keep & 1u, keep & 2u, keep & 4u, keep & 8u)));
+            x[at] = xi + alpha * p[at];
             vec4 ri = r[at] - alpha * ap[at];
             r[at] = ri;
             vec4 zi = m * ri;

@@ -224,6 +224,42 @@ TEST_CASE("graph: the order a domain lists its Gaussians in changes no spacing, 
     CHECK(differ == 0);
 }
 
+TEST_CASE("graph decoder: a click seeds the node whose centre is nearest, however far and however many clicks") {
+    // The scan (a few clicks) and the hash grid (many) must agree with brute force everywhere: far
+    // outside the nodes (past any ring limit), on duplicated centres (the lowest node wins) and
+    // on a grid cell much smaller than the spacing.
+    data::GaussianCloud cloud;
+    seg::GraphDomain d;
+    seg::DomainNodes nodes(cloud, d, false);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (int i = 0; i < 3000; ++i) nodes.position.push_back(glm::vec3(u(rng), u(rng), 0.1f * u(rng)));
+    for (int i = 0; i < 200; ++i) nodes.position.push_back(nodes.position[size_t(i) * 7]);  // duplicates, higher numbers
+    auto brute = [&](glm::vec3 p) {
+        uint32_t best = 0;
+        double bd = 1e300;
+        for (uint32_t i = 0; i < nodes.position.size(); ++i) {
+            const glm::dvec3 e = glm::dvec3(nodes.position[i]) - glm::dvec3(p);
+            if (const double d2 = glm::dot(e, e); d2 < bd) bd = d2, best = i;
+        }
+        return best;
+    };
+    for (size_t count : {5u, 200u})
+        for (float cell : {0.002f, 0.05f}) {
+            std::vector<glm::vec3> points;
+            for (size_t c = 0; c < count; ++c) {
+                const float far = c % 5 == 0 ? 20.0f : 1.0f;  // every fifth far away
+                points.push_back(c % 3 == 0 ? nodes.position[c * 7] : glm::vec3(far * u(rng), far * u(rng), u(rng)));
+            }
+            const auto got = nodes.nearest(points, cell);
+            REQUIRE(got.size() == count);
+            size_t wrong = 0;
+            for (size_t c = 0; c < count; ++c) wrong += got[c] != brute(points[c]);
+            INFO("clicks " << count << ", cell " << cell);
+            CHECK(wrong == 0);
+        }
+}
+
 TEST_CASE("random walker: the GPU's conjugate gradient matches Eigen's on the same systems") {
     auto scene = ref::random_scene(22, 1500, 0);
     auto& ctx = test::gpu();
