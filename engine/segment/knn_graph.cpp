@@ -75,7 +75,9 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
         throw data::InputError("graph weights", "cell and distance must be positive, colour, normal and opacity >= 0");
     domain_ = domain;
     host_nbr_.clear();
-    host_adjacency_ = {};
+    // Emptied, not freed: the next download reuses the memory (fresh pages fault on first touch).
+    for (auto* v : {&host_adjacency_.rows, &host_adjacency_.columns}) v->clear();
+    for (auto* v : {&host_adjacency_.weights, &host_adjacency_.degree}) v->clear();
     nodes_ = uint32_t(domain.size());
     k_ = o.k;
     const uint32_t n = nodes_, k = k_;
@@ -215,10 +217,14 @@ const std::vector<uint32_t>& KnnGraph::host_neighbours() const {
 const HostAdjacency& KnnGraph::host_adjacency() const {
     if (!host_adjacency_.rows.empty() || nodes_ == 0) return host_adjacency_;
     HostAdjacency& a = host_adjacency_;
-    a.rows = vk::download_vector<uint32_t>(ctx_, rows_, size_t(nodes_) + 1);
-    a.columns = vk::download_vector<uint32_t>(ctx_, columns_, a.rows[nodes_]);
-    a.weights = vk::download_vector<float>(ctx_, adjacency_weights_, a.rows[nodes_]);
-    a.degree = vk::download_vector<float>(ctx_, degree_, nodes_);
+    auto into = [&](auto& v, const vk::Buffer& from, size_t count) {
+        v.resize(count);
+        if (count) vk::download(ctx_, from, v.data(), count * sizeof(v[0]));
+    };
+    into(a.rows, rows_, size_t(nodes_) + 1);
+    into(a.columns, columns_, a.rows[nodes_]);
+    into(a.weights, adjacency_weights_, a.rows[nodes_]);
+    into(a.degree, degree_, nodes_);
     return a;
 }
 

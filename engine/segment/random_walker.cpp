@@ -40,16 +40,17 @@ bool RandomWalker::build_hierarchy(const KnnGraph& graph, const std::vector<int3
     const auto t0 = std::chrono::steady_clock::now();
     const uint32_t n = graph.nodes();
     // The fine operator as walk_apply sees it, from the graph's host copy (downloaded once per
-    // graph, not once per click): walk_edges' columns and weights (0 toward seeds), degree +
+    // graph, not once per click): walk_rhs's columns and edge weights (0 toward seeds), degree +
     // gamma on the diagonal; a seed's row is out of the system.
     const HostAdjacency& adjacency = graph.host_adjacency();
-    WalkMatrix fine;
-    fine.rows = adjacency.rows;
-    fine.columns = adjacency.columns;
-    fine.weights = adjacency.weights;
+    // In the last hierarchy's finest level's memory (fresh pages fault on first touch: ~5 ms here).
+    WalkMatrix fine = hierarchy_.levels.empty() ? WalkMatrix{} : std::move(hierarchy_.levels[0].matrix);
+    fine.rows.assign(adjacency.rows.begin(), adjacency.rows.end());
+    fine.columns.assign(adjacency.columns.begin(), adjacency.columns.end());
+    fine.weights.assign(adjacency.weights.begin(), adjacency.weights.end());
     for (size_t s = 0; s < fine.columns.size(); ++s)
         if (seed[fine.columns[s]] != gpu::kWalkFree) fine.weights[s] = 0.0f;
-    fine.diagonal = adjacency.degree;
+    fine.diagonal.assign(adjacency.degree.begin(), adjacency.degree.end());
     for (uint32_t i = 0; i < n; ++i) {
         const float d = fine.diagonal[i] + gamma[i];
         fine.diagonal[i] = seed[i] == gpu::kWalkFree && d > 0.0f ? d : 0.0f;
@@ -94,13 +95,21 @@ std::vector<float> RandomWalker::cycle(const KnnGraph& graph, const WalkProblem&
     if (labels == 0 || labels > gpu::kWalkMaxLabels || pr.seed.size() != n || r.size() != size_t(n) * labels)
         throw data::InputError("random walker cycle", "expects 1 to 16 labels, a seed and r per node");
     const std::vector<float> gamma = pr.gamma.empty() ? std::vector<float>(n, 0.0f) : pr.gamma;
+    // walk_rhs gives the solve's edge weights (its b, x and diagonals go unused here).
     seed_.ensure(uint64_t(n) * 4);
+    gamma_.ensure(uint64_t(n) * 4);
     vk::upload(ctx_, seed_, pr.seed.data(), uint64_t(n) * 4);
+    vk::upload(ctx_, gamma_, gamma.data(), uint64_t(n) * 4);
+    for (auto* b : {&prior_, &x_, &b_}) b->ensure(uint64_t(n) * width * 4);
+    cmd_.fill(prior_, 0, 0, uint64_t(n) * width * 4);
+    for (auto* b : {&inv_diag_, &coupling_}) b->ensure(uint64_t(n) * 4);
     edge_weights_.ensure(2ull * n * graph.k() * 4);
     const gpu::WalkPush push{{n, graph.k(), labels, vk::ceil_div(n, gpu::kGraphGroup)}, {0, 0, 0, 0}};
     cmd_.begin_pass("walk edges");
-    cmd_.dispatch("segment/walk_edges", {graph.columns(), graph.adjacency_weights(), seed_, graph.rows(), edge_weights_}, push,
-                  vk::ceil_div(2ull * n * graph.k(), gpu::kGraphGroup));
+    cmd_.dispatch(walk_kernel("segment/walk_rhs", labels),
+                  {graph.rows(), graph.columns(), graph.adjacency_weights(), graph.degree_buffer(), seed_, gamma_, prior_, x_, b_,
+                   inv_diag_, coupling_, edge_weights_},
+                  push, push.size.w);
     cmd_.end_pass();
     cmd_.submit_and_wait();
     WalkResult unused;
@@ -273,10 +282,8 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
             const uint32_t reduce_groups = width / 4;
             cmd_.begin_pass("walk start");
             cmd_.dispatch(walk_kernel("segment/walk_rhs", labels),
-                          {rows, columns, graph.adjacency_weights(), deg, seed_, gamma_, prior_, x_, b_, inv_diag_, coupling_}, push[0],
-                          node_groups);
-            cmd_.dispatch("segment/walk_edges", {columns, graph.adjacency_weights(), seed_, rows, edge_weights_}, push[0],
-                          vk::ceil_div(2ull * n * graph.k(), gpu::kGraphGroup));
+                          {rows, columns, graph.adjacency_weights(), deg, seed_, gamma_, prior_, x_, b_, inv_diag_, coupling_, edge_weights_},
+                          push[0], node_groups);
             // A x of a start that is 0 on every unknown node (no start, no prior) is 0: no product.
             if (!started && pr.prior.empty()) cmd_.fill(ap_, 0, 0, bytes);
             else cmd_.dispatch(walk_kernel("segment/walk_apply", labels), {rows, columns, edge_weights_, coupling_, seed_, x_, ap_, partials_}, push[0], node_groups);

@@ -95,7 +95,7 @@ private:
         explicit DeviceLevel(vk::Context& ctx);
         vk::Buffer rows, columns, weights, diagonal, smoother, parent, child_rows, children, r, pre, z;
     };
-    // Downloads the fine operator (after walk_edges ran), builds the hierarchy and uploads it;
+    // Downloads the fine operator (after walk_rhs ran), builds the hierarchy and uploads it;
     // false when it did not coarsen (the solve then falls back to Jacobi).
     bool build_hierarchy(const KnnGraph& graph, const std::vector<int32_t>& seed, const std::vector<float>& gamma,
                          uint32_t width, const WalkOptions& options, WalkResult& out);

@@ -11,8 +11,8 @@
 
 layout(local_size_x = 256) in;
 layout(std430, binding = 0) readonly buffer Rows { uint rows[]; };
-layout(std430, binding = 1) readonly buffer EdgeColumns { uint edge_columns[]; };  // walk_edges
-layout(std430, binding = 2) readonly buffer EdgeWeights { float edge_weights[]; };
+layout(std430, binding = 1) readonly buffer EdgeColumns { uint edge_columns[]; };  // the adjacency's
+layout(std430, binding = 2) readonly buffer EdgeWeights { float edge_weights[]; };  // walk_rhs
 layout(std430, binding = 3) readonly buffer Coupling { float coupling[]; };  // walk_rhs
 layout(std430, binding = 4) readonly buffer Seed { int seed[]; };
 layout(std430, binding = 5) readonly buffer V { vec4 v[]; };

@@ -4,7 +4,10 @@
 // a seed holds its label's indicator in x and takes no part in the solve (b = 0, 1/diag = 0).
 // The operator's diagonal is degree + gamma; an isolated node without unary stays as it was.
 // Also per node its coupling out of the unknowns, gamma + the weights to seeds (walk_apply's
-// diagonal excess, summed from the terms themselves rather than as degree - the rest).
+// diagonal excess, summed from the terms themselves rather than as degree - the rest), and its
+// row of the walk's edge weights: the adjacency's with every edge into a seed at 0, so walk_apply
+// needs no seed test per edge (written here from the seed reads the coupling makes anyway: a
+// pass of its own over the edges cost 9-12 ms of a 150 k click).
 #extension GL_GOOGLE_include_directive : require
 #include "common/dispatch.glsl"
 #include "segment/graph_shared.h"
@@ -21,6 +24,7 @@ layout(std430, binding = 7) buffer X { vec4 x[]; };                     // start
 layout(std430, binding = 8) writeonly buffer B { vec4 b[]; };
 layout(std430, binding = 9) writeonly buffer InvDiag { float inv_diag[]; };
 layout(std430, binding = 10) writeonly buffer Coupling { float coupling[]; };
+layout(std430, binding = 11) writeonly buffer EdgeWeights { float edge_weights[]; };
 layout(push_constant) uniform Push { WalkPush pc; };
 #include "segment/walk_common.glsl"
 
@@ -37,6 +41,7 @@ void main() {
     if (i >= n) return;
     int own = seed[i];
     if (own != kWalkFree) {
+        for (uint s = rows[i]; s < rows[i + 1u]; ++s) edge_weights[s] = seed[columns[s]] == kWalkFree ? weights[s] : 0.0;
         for (uint c = 0u; c < vecs; ++c) {
             x[i * vecs + c] = indicator(own, c);
             b[i * vecs + c] = vec4(0.0);
@@ -50,8 +55,9 @@ void main() {
     float couple = gamma[i];
     for (uint s = rows[i]; s < rows[i + 1u]; ++s) {
         int other = seed[columns[s]];
-        if (other == kWalkFree) continue;
         float w = weights[s];
+        edge_weights[s] = other == kWalkFree ? w : 0.0;
+        if (other == kWalkFree) continue;
         couple += w;
         for (uint c = 0u; c < vecs; ++c) acc[c] += w * indicator(other, c);
     }
