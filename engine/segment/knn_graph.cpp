@@ -76,8 +76,10 @@ void KnnGraph::build(const render::GpuScene& scene, const data::GaussianCloud& c
     domain_ = domain;
     host_nbr_.clear();
     // Emptied, not freed: the next download reuses the memory (fresh pages fault on first touch).
-    for (auto* v : {&host_adjacency_.rows, &host_adjacency_.columns}) v->clear();
-    for (auto* v : {&host_adjacency_.weights, &host_adjacency_.degree}) v->clear();
+    host_adjacency_.rows.clear();
+    host_adjacency_.columns.clear();
+    host_adjacency_.weights.clear();
+    host_adjacency_.degree.clear();
     nodes_ = uint32_t(domain.size());
     k_ = o.k;
     const uint32_t n = nodes_, k = k_;
