@@ -12,10 +12,11 @@ namespace pg::seg {
 
 namespace {
 
+// Into `to` when `cmd` runs (one submission for all of a hierarchy's arrays).
 template <class T>
-void put(vk::Context& ctx, vk::Buffer& to, const std::vector<T>& from) {
+void put(vk::CommandList& cmd, vk::Buffer& to, const std::vector<T>& from) {
     to.ensure(std::max<uint64_t>(16, from.size() * sizeof(T)));
-    if (!from.empty()) vk::upload(ctx, to, from.data(), from.size() * sizeof(T));
+    cmd.upload(to, from.data(), from.size() * sizeof(T));
 }
 
 // A node pass built for this solve's vec4s of label columns per node (shaders/CMakeLists.txt).
@@ -25,7 +26,8 @@ std::string walk_kernel(const char* name, uint32_t labels) {
 
 }  // namespace
 
-RandomWalker::RandomWalker(vk::Context& ctx) : ctx_(ctx), cmd_(ctx) {
+RandomWalker::RandomWalker(vk::Context& ctx)
+    : ctx_(ctx), cmd_(ctx), readback_(ctx, 2 * kCheckAt, vk::MemoryUse::Readback, "random walker scalars") {
     for (auto* b : {&seed_, &gamma_, &prior_, &x_, &b_, &inv_diag_, &coupling_, &r_, &z_, &p_, &ap_, &partials_, &scalars_, &check_, &check_partials_, &best_x_, &edge_weights_, &coarse_inverse_})
         *b = vk::Buffer(ctx, 16, vk::MemoryUse::Device, "random walker");
 }
@@ -68,22 +70,22 @@ bool RandomWalker::build_hierarchy(const KnnGraph& graph, const std::vector<int3
         level_nodes_[l] = from.matrix.size();
         if (l > 0) {
             // Level 0's operator and vectors are the solve's own buffers.
-            put(ctx_, to.rows, from.matrix.rows);
-            put(ctx_, to.columns, from.matrix.columns);
-            put(ctx_, to.weights, from.matrix.weights);
+            put(cmd_, to.rows, from.matrix.rows);
+            put(cmd_, to.columns, from.matrix.columns);
+            put(cmd_, to.weights, from.matrix.weights);
             to.r.ensure(uint64_t(level_nodes_[l]) * width * 4);
             to.z.ensure(uint64_t(level_nodes_[l]) * width * 4);
         }
-        put(ctx_, to.diagonal, from.matrix.diagonal);
-        put(ctx_, to.smoother, from.smoother);
+        put(cmd_, to.diagonal, from.matrix.diagonal);
+        put(cmd_, to.smoother, from.smoother);
         to.pre.ensure(uint64_t(level_nodes_[l]) * width * 4);
         if (l + 1 < count) {
-            put(ctx_, to.parent, from.parent);
-            put(ctx_, to.child_rows, from.child_rows);
-            put(ctx_, to.children, from.children);
+            put(cmd_, to.parent, from.parent);
+            put(cmd_, to.child_rows, from.child_rows);
+            put(cmd_, to.children, from.children);
         }
     }
-    put(ctx_, coarse_inverse_, h.coarse_inverse);
+    put(cmd_, coarse_inverse_, h.coarse_inverse);
     out.levels = uint32_t(count);
     out.hierarchy_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return true;
@@ -98,8 +100,8 @@ std::vector<float> RandomWalker::cycle(const KnnGraph& graph, const WalkProblem&
     // walk_rhs gives the solve's edge weights (its b, x and diagonals go unused here).
     seed_.ensure(uint64_t(n) * 4);
     gamma_.ensure(uint64_t(n) * 4);
-    vk::upload(ctx_, seed_, pr.seed.data(), uint64_t(n) * 4);
-    vk::upload(ctx_, gamma_, gamma.data(), uint64_t(n) * 4);
+    cmd_.upload(seed_, pr.seed.data(), uint64_t(n) * 4);
+    cmd_.upload(gamma_, gamma.data(), uint64_t(n) * 4);
     for (auto* b : {&prior_, &x_, &b_}) b->ensure(uint64_t(n) * width * 4);
     cmd_.fill(prior_, 0, 0, uint64_t(n) * width * 4);
     for (auto* b : {&inv_diag_, &coupling_}) b->ensure(uint64_t(n) * 4);
@@ -122,8 +124,8 @@ std::vector<float> RandomWalker::cycle(const KnnGraph& graph, const WalkProblem&
         for (uint32_t l = 0; l < labels; ++l) columns[size_t(i) * width + l] = r[size_t(i) * labels + l];
     for (auto* b : {&b_, &ap_, &r_, &z_, &p_}) b->ensure(uint64_t(n) * width * 4);
     partials_.ensure(uint64_t(push.size.w) * gpu::kWalkMaxLabels * 4);
-    vk::upload(ctx_, b_, columns.data(), columns.size() * 4);
-    vk::upload(ctx_, ap_, zero.data(), zero.size() * 4);
+    cmd_.upload(b_, columns.data(), columns.size() * 4);
+    cmd_.upload(ap_, zero.data(), zero.size() * 4);
     cmd_.begin_pass("walk cycle");
     cmd_.dispatch(walk_kernel("segment/walk_residual", labels), {b_, ap_, levels_[0].smoother, r_, levels_[0].pre, p_, partials_}, push,
                   push.size.w);
@@ -232,8 +234,8 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
     std::vector<float> gamma = pr.gamma.empty() ? std::vector<float>(n, 0.0f) : pr.gamma;
     seed_.ensure(uint64_t(n) * 4);
     gamma_.ensure(uint64_t(n) * 4);
-    vk::upload(ctx_, seed_, pr.seed.data(), uint64_t(n) * 4);
-    vk::upload(ctx_, gamma_, gamma.data(), uint64_t(n) * 4);
+    cmd_.upload(seed_, pr.seed.data(), uint64_t(n) * 4);
+    cmd_.upload(gamma_, gamma.data(), uint64_t(n) * 4);
     inv_diag_.ensure(uint64_t(n) * 4);
     coupling_.ensure(uint64_t(n) * 4);
     edge_weights_.ensure(2ull * n * graph.k() * 4);
@@ -261,7 +263,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
             return c;
         };
         auto prior = columns(pr.prior);
-        vk::upload(ctx_, prior_, prior.data(), bytes);
+        cmd_.upload(prior_, prior.data(), bytes);
         std::vector<float> x0;
         if (started) x.read(base, labels, width, x0);
         else x0 = prior;
@@ -272,7 +274,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
         uint32_t it = 0;
         std::vector<double> best, column;  // per column: its best (multigrid keeps that iterate) and last residual
         for (bool jacobi_retry = false;; jacobi_retry = true) {
-            vk::upload(ctx_, x_, x0.data(), bytes);
+            cmd_.upload(x_, x0.data(), bytes);
 
             gpu::WalkPush push[4];
             for (uint32_t mode = 0; mode < 4; ++mode) push[mode] = {{n, graph.k(), labels, node_groups}, {mode, base, 0, 0}};
@@ -329,10 +331,21 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
             best.assign(labels, 1e300);
             column.assign(labels, 0.0);
             for (;;) {
+                // The scalars come back with the iterations' own submission: on a discrete GPU a
+                // download apiece was two more submissions and waits per check.
+                if (!scalars_.mapped()) {
+                    cmd_.copy(scalars_, readback_, labels * sizeof(gpu::WalkScalars));
+                    if (multigrid) cmd_.copy(check_, readback_, labels * sizeof(gpu::WalkScalars), 0, kCheckAt);
+                }
                 cmd_.submit_and_wait();
                 for (auto& t : cmd_.timings()) timings_.push_back(t);
                 stop_if_cancelled(o.cancel);
-                auto s = vk::download_vector<gpu::WalkScalars>(ctx_, scalars_, labels);
+                auto scalars = [&](const vk::Buffer& b, size_t at) {
+                    const auto* from = static_cast<const gpu::WalkScalars*>(b.mapped() ? b.data() : readback_.data());
+                    if (!b.mapped()) from += at / sizeof(gpu::WalkScalars);
+                    return std::vector<gpu::WalkScalars>(from, from + labels);
+                };
+                auto s = scalars(scalars_, 0);
                 if (multigrid) {
                     // The stop test measures r . r / diag, as the Jacobi solve does, over the nodes in
                     // the hierarchy: level 0's smoother is omega / diag there and 0 on the components it
@@ -340,7 +353,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
                     // a V-cycle would grow with the operator's conditioning, asking far more of an
                     // ill-posed scene than of an easy one at the same tolerance. walk_residual (the
                     // start) and walk_update (each step) leave it in check_.
-                    const auto c = vk::download_vector<gpu::WalkScalars>(ctx_, check_, labels);
+                    const auto c = scalars(check_, kCheckAt);
                     for (uint32_t l = 0; l < labels; ++l) s[l].value.x = c[l].value.x / o.hierarchy.omega;
                 }
                 residual = 0;

@@ -110,6 +110,9 @@ private:
     std::vector<DeviceLevel> levels_;
     std::vector<uint32_t> level_nodes_;
     vk::Buffer coarse_inverse_;
+    // scalars_ then check_, copied there for the host where they are not mapped.
+    static constexpr size_t kCheckAt = gpu::kWalkMaxLabels * sizeof(gpu::WalkScalars);
+    vk::Buffer readback_;
 };
 
 }  // namespace pg::seg

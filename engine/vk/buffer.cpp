@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <mutex>
 #include <stdexcept>
 
 #include "engine/vk/check.h"
@@ -118,17 +119,39 @@ void Buffer::ensure(VkDeviceSize bytes) {
         PG_VK(vkMapMemory(dev, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
 }
 
+namespace {
+// Staging memory and a command list kept by the context for the copies that need them (a
+// discrete GPU's device-local buffers): a copy per call used to allocate both, and on an NVIDIA
+// driver that cost more than the copy. Transfers larger than the staging buffer go in chunks,
+// so what stays allocated is bounded.
+struct StagedTransfers {
+    static constexpr VkDeviceSize kChunk = VkDeviceSize(32) << 20;
+    explicit StagedTransfers(Context& ctx)
+        : up(ctx, 16, MemoryUse::Upload, "staging"), down(ctx, 16, MemoryUse::Readback, "readback"), cmd(ctx) {}
+    std::mutex mutex;
+    Buffer up, down;
+    CommandList cmd;
+};
+
+StagedTransfers& staged(Context& ctx) { return ctx.attachment<StagedTransfers>("vk staged transfers"); }
+}  // namespace
+
 void upload(Context& ctx, Buffer& dst, const void* src, VkDeviceSize bytes, VkDeviceSize offset) {
     if (offset + bytes > dst.size()) throw std::out_of_range("upload past the end of buffer '" + dst.name() + "'");
     if (dst.mapped()) {
         std::memcpy(static_cast<char*>(dst.data()) + offset, src, bytes);
         return;
     }
-    Buffer staging(ctx, bytes, MemoryUse::Upload, "staging");
-    std::memcpy(staging.data(), src, bytes);
-    CommandList cmd(ctx);
-    cmd.copy(staging, dst, bytes, 0, offset);
-    cmd.submit_and_wait();
+    StagedTransfers& t = staged(ctx);
+    std::lock_guard lock(t.mutex);
+    for (VkDeviceSize done = 0; done < bytes;) {
+        const VkDeviceSize n = std::min(bytes - done, StagedTransfers::kChunk);
+        t.up.ensure(n);
+        std::memcpy(t.up.data(), static_cast<const char*>(src) + done, n);
+        t.cmd.copy(t.up, dst, n, 0, offset + done);
+        t.cmd.submit_and_wait();
+        done += n;
+    }
 }
 
 void download(Context& ctx, const Buffer& src, void* dst, VkDeviceSize bytes, VkDeviceSize offset) {
@@ -137,11 +160,16 @@ void download(Context& ctx, const Buffer& src, void* dst, VkDeviceSize bytes, Vk
         std::memcpy(dst, static_cast<const char*>(src.data()) + offset, bytes);
         return;
     }
-    Buffer staging(ctx, bytes, MemoryUse::Readback, "readback");
-    CommandList cmd(ctx);
-    cmd.copy(src, staging, bytes, offset, 0);
-    cmd.submit_and_wait();
-    std::memcpy(dst, staging.data(), bytes);
+    StagedTransfers& t = staged(ctx);
+    std::lock_guard lock(t.mutex);
+    for (VkDeviceSize done = 0; done < bytes;) {
+        const VkDeviceSize n = std::min(bytes - done, StagedTransfers::kChunk);
+        t.down.ensure(n);
+        t.cmd.copy(src, t.down, n, offset + done, 0);
+        t.cmd.submit_and_wait();
+        std::memcpy(static_cast<char*>(dst) + done, t.down.data(), n);
+        done += n;
+    }
 }
 
 }  // namespace pg::vk

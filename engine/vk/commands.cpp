@@ -1,6 +1,7 @@
 #include "engine/vk/commands.h"
 
 #include <algorithm>
+#include <cstring>
 #include <mutex>
 #include <stdexcept>
 
@@ -49,6 +50,27 @@ void CommandList::begin_if_needed() {
     touched_.clear();
     pass_names_.clear();
     pass_open_ = false;
+    std::fill(staging_used_.begin(), staging_used_.end(), VkDeviceSize(0));  // the last submission is done
+}
+
+void CommandList::upload(const Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
+    if (offset + bytes > dst.size()) throw std::out_of_range("upload past the end of buffer '" + dst.name() + "'");
+    if (bytes == 0) return;
+    if (dst.mapped()) {
+        std::memcpy(static_cast<char*>(dst.data()) + offset, data, bytes);
+        return;
+    }
+    begin_if_needed();
+    size_t c = 0;
+    while (c < staging_.size() && staging_[c].size() - staging_used_[c] < bytes) ++c;
+    if (c == staging_.size()) {
+        staging_.emplace_back(ctx_, std::max<VkDeviceSize>(bytes, VkDeviceSize(1) << 20), MemoryUse::Upload, "upload staging");
+        staging_used_.push_back(0);
+    }
+    const VkDeviceSize at = staging_used_[c];
+    std::memcpy(static_cast<char*>(staging_[c].data()) + at, data, bytes);
+    copy(staging_[c], dst, bytes, at, offset);
+    staging_used_[c] = at + ((bytes + 15) & ~VkDeviceSize(15));
 }
 
 void CommandList::barrier() {

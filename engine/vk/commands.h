@@ -78,6 +78,10 @@ public:
     void copy(const Buffer& src, const Buffer& dst, VkDeviceSize bytes, VkDeviceSize src_offset = 0,
               VkDeviceSize dst_offset = 0);
     void update(const Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);  // <= 64 KiB
+    // Host data into dst as part of this list: a mapped dst is written at once (so no command
+    // recorded earlier in this list may use it), any other is staged in the list's own memory
+    // and copied when the list runs. Many uploads then cost one submission, not one each.
+    void upload(const Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
     // A full memory barrier, for work the tracker cannot see (rarely needed).
     void barrier();
 
@@ -113,6 +117,8 @@ private:
     bool pass_open_ = false;
     std::vector<PassTiming> timings_;
     uint64_t dispatches_ = 0;
+    std::vector<Buffer> staging_;              // upload()'s host-visible chunks, kept for reuse
+    std::vector<VkDeviceSize> staging_used_;   // bytes of each chunk taken since the last submit
     static constexpr uint32_t kMaxQueries = 4096;  // a PTv3 forward times ~1000 passes
 };
 

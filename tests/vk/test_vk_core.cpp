@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <numeric>
 
 #include "engine/vk/buffer.h"
@@ -70,6 +71,53 @@ TEST_CASE("with discrete memory emulated, device buffers are not mapped and data
     cmd.submit_and_wait();
     CHECK(vk::download_vector<uint32_t>(ctx, other, data.size()) == data);
     CHECK(vk::download_vector<uint32_t>(ctx, other, 5, 400)[0] == data[100]);
+}
+
+TEST_CASE("uploads recorded in a command list land before its later commands, staged or mapped, list after list") {
+    for (const bool discrete : {false, true}) {
+        vk::ContextOptions o;
+        o.validation = true;
+        o.quiet = true;
+        o.discrete_memory = discrete;
+        vk::Context ctx(o);
+        // Larger than the list's first staging chunk (1 MiB), so a second chunk is taken.
+        std::vector<uint32_t> small(5000), big(600000);
+        vk::Buffer a(ctx, small.size() * 4, vk::MemoryUse::Device, "a"), b(ctx, big.size() * 4, vk::MemoryUse::Device, "b");
+        vk::Buffer copied(ctx, small.size() * 4, vk::MemoryUse::Device, "copied");
+        vk::CommandList cmd(ctx);
+        for (uint32_t round = 0; round < 3; ++round) {
+            std::iota(small.begin(), small.end(), 11u * round);
+            std::iota(big.begin(), big.end(), 1000u + round);
+            cmd.upload(a, small.data(), small.size() * 4);
+            cmd.upload(b, big.data(), big.size() * 4);
+            cmd.copy(a, copied, small.size() * 4);
+            std::vector<uint32_t> patch(10, 77u + round);
+            cmd.upload(b, patch.data(), 40, 400);  // over part of b, after its first upload
+            cmd.submit_and_wait();
+            CHECK(vk::download_vector<uint32_t>(ctx, copied, small.size()) == small);
+            auto got = vk::download_vector<uint32_t>(ctx, b, big.size());
+            std::copy(patch.begin(), patch.end(), big.begin() + 100);
+            CHECK(std::mismatch(got.begin(), got.end(), big.begin()).first - got.begin() == ptrdiff_t(big.size()));
+        }
+        CHECK(vk::Context::validation_message_count() == 0);
+    }
+}
+
+TEST_CASE("transfers larger than the staging memory go in chunks, offsets kept") {
+    vk::ContextOptions o;
+    o.validation = true;
+    o.quiet = true;
+    o.discrete_memory = true;
+    vk::Context ctx(o);
+    // 40 MiB + a bit: past the 32 MiB the context keeps for staging.
+    const size_t n = (size_t(40) << 18) + 77;
+    std::vector<uint32_t> data(n);
+    std::iota(data.begin(), data.end(), 5u);
+    vk::Buffer dev(ctx, (n + 16) * 4, vk::MemoryUse::Device, "device");
+    vk::upload(ctx, dev, data.data(), n * 4, 64);
+    auto got = vk::download_vector<uint32_t>(ctx, dev, n, 64);
+    CHECK(std::mismatch(got.begin(), got.end(), data.begin()).first - got.begin() == ptrdiff_t(n));
+    CHECK(vk::download_vector<uint32_t>(ctx, dev, 3, 64 + 4 * (n - 3))[2] == data[n - 1]);
 }
 
 TEST_CASE("a buffer larger than the device allows is a clear error, and >4 GiB works where allowed") {
