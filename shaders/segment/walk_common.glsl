@@ -8,26 +8,28 @@
 #ifndef WALK_VECS
 #error "WALK_VECS: built per column count (shaders/CMakeLists.txt)"
 #endif
-shared vec4 s_dot[kWalkVecs][kGraphGroup];
+shared vec4 s_dot[WALK_VECS][kGraphGroup];
 
 // Every invocation of the group calls this (barriers inside) with its node's terms (0 if none);
-// then partials[group * kWalkVecs + c]. Two raking steps rather than a tree: CPU Vulkan runs
-// every invocation through every stretch between barriers, so each barrier costs a whole pass
-// over the group (a tree's eight made the reduction cost more than the sparse product).
-shared vec4 s_rake[kWalkVecs][16];
+// then partials[group * kWalkVecs + c] for the solve's c < WALK_VECS (walk_reduce reads no
+// others: summing kWalkVecs columns cost a 1-vec solve ~4 % of its GPU time). Two raking steps
+// rather than a tree: CPU Vulkan runs every invocation through every stretch between barriers,
+// so each barrier costs a whole pass over the group (a tree's eight made the reduction cost more
+// than the sparse product).
+shared vec4 s_rake[WALK_VECS][16];
 #define WALK_STORE_PARTIALS(terms, partials)                                                      \
     {                                                                                             \
         uint t_ = gl_LocalInvocationIndex;                                                        \
-        for (uint c_ = 0u; c_ < kWalkVecs; ++c_) s_dot[c_][t_] = terms[c_];                       \
+        for (uint c_ = 0u; c_ < WALK_VECS; ++c_) s_dot[c_][t_] = terms[c_];                       \
         barrier();                                                                                \
-        if (t_ < 16u * kWalkVecs) {                                                               \
+        if (t_ < 16u * WALK_VECS) {                                                               \
             uint c_ = t_ / 16u, q_ = (t_ % 16u) * 16u;                                            \
             vec4 sum_ = vec4(0.0);                                                                \
             for (uint u_ = 0u; u_ < 16u; ++u_) sum_ += s_dot[c_][q_ + u_];                        \
             s_rake[c_][t_ % 16u] = sum_;                                                          \
         }                                                                                         \
         barrier();                                                                                \
-        if (t_ < kWalkVecs) {                                                                     \
+        if (t_ < WALK_VECS) {                                                                     \
             vec4 sum_ = vec4(0.0);                                                                \
             for (uint u_ = 0u; u_ < 16u; ++u_) sum_ += s_rake[t_][u_];                            \
             partials[pg_group_index() * kWalkVecs + t_] = sum_;                                   \
