@@ -25,8 +25,10 @@ namespace pg::seg {
 // wall, a blurry edge, a thin part — takes tau x its final opacity under the tau rule: the
 // same fraction of what the ray meets.
 // Throws InputError naming `what` when the pixel is off the image or (nearly) empty.
-// Renders only what reaches the pixel (a window of the view at the camera's own size): a fraction
-// of a frame's work, so every click renders its own.
+// Renders only what may reach the pixel (a window of the view at the camera's own size), as a
+// scene of its own picked on the host from scene.cloud() (which must still be alive): a few
+// hundred Gaussians whatever the scene's size, so every click renders its own. The renderer's
+// last frame is then that scene, gone when this returns: render again before pick().
 Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, const data::Camera& camera, double u,
                   double v, bool positive, const render::RenderSettings& settings, LiftRule rule,
                   const std::string& what);

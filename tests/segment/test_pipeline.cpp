@@ -362,3 +362,41 @@ TEST_CASE("click lifting: a translucent surface lifts where opacity reaches tau 
         }
     CHECK(fallbacks >= 5);
 }
+
+TEST_CASE("click lifting: the lift's own few-Gaussian scene picks what a frame of the whole scene picks") {
+    // Scenes that test the host's bound on each footprint: random sizes, rotations and opacities,
+    // Gaussians behind and straddling the near plane, degenerate and edge-on ones, and one large
+    // enough to cover every pixel.
+    auto& ctx = test::gpu();
+    render::Renderer lift(ctx), whole(ctx);
+    size_t lifted = 0, empty = 0;
+    for (const auto& scene : {ref::random_scene(4242, 600, 3), ref::behind_camera_scene(), ref::near_plane_scene(),
+                              ref::fullscreen_scene(), ref::degenerate_scales_scene(), ref::flat_2dgs_scene()}) {
+        render::GpuScene gpu(ctx, scene.cloud);
+        for (size_t c = 0; c < std::min<size_t>(2, scene.cameras.size()); ++c) {
+            const data::Camera& cam = scene.cameras[c];
+            for (int py = 1; py < cam.height; py += 5)
+                for (int px = 2; px < cam.width; px += 6)
+                    for (auto rule : {seg::LiftRule::Surface, seg::LiftRule::Tau}) {
+                        render::RenderSettings s;
+                        s.window = glm::ivec4(px, py, px + 1, py + 1);
+                        s.lists_only = true;
+                        whole.render(gpu, cam, s);
+                        const render::PixelPick want = whole.pick(px, py);
+                        if (!(want.opacity >= seg::kMinLiftCoverage)) {
+                            CHECK_THROWS_AS(seg::lift_click(lift, gpu, cam, px, py, true, {}, rule, "click"), data::InputError);
+                            ++empty;
+                            continue;
+                        }
+                        const seg::Anchor a = seg::lift_click(lift, gpu, cam, px, py, true, {}, rule, "click");
+                        CHECK(a.gaussian == (rule == seg::LiftRule::Surface ? want.surface_id : want.tau_id));
+                        CHECK(a.fallback == (want.opacity < s.tau));
+                        const double z = rule == seg::LiftRule::Surface ? want.surface_depth : want.tau_depth;
+                        CHECK((cam.R * a.position + cam.t).z == Approx(z).margin(1e-5));
+                        ++lifted;
+                    }
+        }
+    }
+    CHECK(lifted >= 200);
+    CHECK(empty >= 20);
+}
