@@ -373,10 +373,10 @@ TEST_CASE("click lifting: the lift's own few-Gaussian scene picks what a frame o
     for (const auto& scene : {ref::random_scene(4242, 600, 3), ref::behind_camera_scene(), ref::near_plane_scene(),
                               ref::fullscreen_scene(), ref::degenerate_scales_scene(), ref::flat_2dgs_scene()}) {
         render::GpuScene gpu(ctx, scene.cloud);
-        for (size_t c = 0; c < std::min<size_t>(2, scene.cameras.size()); ++c) {
+        for (size_t c = 0; c < std::min<size_t>(1, scene.cameras.size()); ++c) {
             const data::Camera& cam = scene.cameras[c];
-            for (int py = 1; py < cam.height; py += 5)
-                for (int px = 2; px < cam.width; px += 6)
+            for (int py = 1; py < cam.height; py += 21)
+                for (int px = 2; px < cam.width; px += 27)
                     for (auto rule : {seg::LiftRule::Surface, seg::LiftRule::Tau}) {
                         render::RenderSettings s;
                         s.window = glm::ivec4(px, py, px + 1, py + 1);
@@ -397,6 +397,7 @@ TEST_CASE("click lifting: the lift's own few-Gaussian scene picks what a frame o
                     }
         }
     }
+    INFO(lifted << " lifted, " << empty << " empty");
     CHECK(lifted >= 200);
     CHECK(empty >= 20);
 }
