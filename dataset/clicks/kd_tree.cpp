@@ -4,15 +4,12 @@
 
 namespace pg::data::clicks {
 
-namespace {
-constexpr uint32_t kLeafSize = 12;
-}
-
-KdTree::KdTree(std::span<const glm::vec3> positions, std::span<const uint32_t> members) {
+KdTree::KdTree(std::span<const glm::vec3> positions, std::span<const uint32_t> members, uint32_t leaf)
+    : leaf_(std::max(leaf, 1u)) {
     points_.reserve(members.size());
     for (uint32_t i : members) points_.push_back(positions[i]);
     if (!points_.empty()) {
-        nodes_.reserve(2 * (points_.size() / kLeafSize + 1));
+        nodes_.reserve(2 * (points_.size() / leaf_ + 1));
         build(0, uint32_t(points_.size()));
     }
 }
@@ -20,7 +17,7 @@ KdTree::KdTree(std::span<const glm::vec3> positions, std::span<const uint32_t> m
 uint32_t KdTree::build(uint32_t begin, uint32_t end) {
     const uint32_t id = uint32_t(nodes_.size());
     nodes_.push_back(Node{0, -1, begin, end, 0, 0});
-    if (end - begin <= kLeafSize) return id;
+    if (end - begin <= leaf_) return id;
     glm::vec3 lo = points_[begin], hi = lo;
     for (uint32_t i = begin; i < end; ++i) {
         lo = glm::min(lo, points_[i]);

@@ -12,8 +12,10 @@ namespace pg::data::clicks {
 
 class KdTree {
 public:
-    // Indexes positions[i] for every i in `members` (copied, so positions may go away).
-    KdTree(std::span<const glm::vec3> positions, std::span<const uint32_t> members);
+    // Indexes positions[i] for every i in `members` (copied, so positions may go away). Leaves
+    // of up to `leaf` points: larger ones build faster and answer each query slower (for a few
+    // queries over many points, a few hundred pays).
+    KdTree(std::span<const glm::vec3> positions, std::span<const uint32_t> members, uint32_t leaf = 12);
 
     bool empty() const { return points_.empty(); }
     // min(bound2, squared distance from p to the nearest indexed point). A tight bound
@@ -31,6 +33,7 @@ private:
 
     std::vector<glm::vec3> points_;
     std::vector<Node> nodes_;
+    uint32_t leaf_;
 };
 
 }  // namespace pg::data::clicks
