@@ -72,6 +72,53 @@ std::vector<uint32_t> all_of(const data::GaussianCloud& cloud) {
 
 }  // namespace
 
+TEST_CASE("walk hierarchy: a Galerkin product large enough for threads is the sequential sum, bit for bit") {
+    // Past 8192 aggregates the coarse rows are built by several threads; each entry must still be
+    // the same sum in the same order: fine nodes ascending, their edges in order.
+    const auto a = random_operator(120000, 77);
+    seg::HierarchyOptions o;
+    uint32_t coarse = 0;
+    const auto parent = seg::aggregate_nodes(a, o, coarse);
+    REQUIRE(coarse >= 8192);
+    std::vector<std::map<uint32_t, double>> sums(coarse);
+    std::vector<double> excess(coarse, 0.0);
+    for (uint32_t i = 0; i < a.size(); ++i) {
+        const uint32_t p = parent[i];
+        if (p == seg::kHierarchyNone || a.diagonal[i] <= 0.0f) continue;
+        double e = a.diagonal[i];
+        for (uint32_t s = a.rows[i]; s < a.rows[i + 1]; ++s) e -= a.weights[s];
+        if (e > 1e-6 * a.diagonal[i]) excess[p] += e;
+    }
+    for (uint32_t i = 0; i < a.size(); ++i) {
+        const uint32_t p = parent[i];
+        if (p == seg::kHierarchyNone) continue;
+        for (uint32_t s = a.rows[i]; s < a.rows[i + 1]; ++s) {
+            const uint32_t q = parent[a.columns[s]];
+            if (a.weights[s] != 0.0f && q != seg::kHierarchyNone && q != p) sums[p][q] += a.weights[s];
+        }
+    }
+    std::vector<float> diagonal(coarse);
+    for (uint32_t p = 0; p < coarse; ++p) {
+        double d = excess[p];
+        for (auto& [q, w] : sums[p]) d += w;
+        diagonal[p] = float(d);
+    }
+    const auto c = seg::galerkin(a, parent, coarse);
+    REQUIRE(c.size() == coarse);
+    size_t mismatched = 0;
+    for (uint32_t p = 0; p < coarse; ++p) {
+        mismatched += c.diagonal[p] != diagonal[p];
+        std::vector<std::pair<uint32_t, float>> want;
+        if (diagonal[p] > 0.0f)
+            for (auto& [q, w] : sums[p])
+                if (diagonal[q] > 0.0f) want.push_back({q, float(w)});
+        std::vector<std::pair<uint32_t, float>> got;
+        for (uint32_t s = c.rows[p]; s < c.rows[p + 1]; ++s) got.push_back({c.columns[s], c.weights[s]});
+        mismatched += got != want;
+    }
+    CHECK(mismatched == 0);
+}
+
 TEST_CASE("walk hierarchy: aggregates and the Galerkin product P^T A P match a dense brute force") {
     const auto a = seg::WalkMatrix(random_operator(400, 31));
     const uint32_t n = a.size();
