@@ -126,10 +126,9 @@ namespace {
 // so what stays allocated is bounded.
 struct StagedTransfers {
     static constexpr VkDeviceSize kChunk = VkDeviceSize(32) << 20;
-    explicit StagedTransfers(Context& ctx)
-        : up(ctx, 16, MemoryUse::Upload, "staging"), down(ctx, 16, MemoryUse::Readback, "readback"), cmd(ctx) {}
+    explicit StagedTransfers(Context& ctx) : down(ctx, 16, MemoryUse::Readback, "readback"), cmd(ctx) {}
     std::mutex mutex;
-    Buffer up, down;
+    Buffer down;     // uploads stage in cmd's own memory (CommandList::upload)
     CommandList cmd;
 };
 
@@ -146,9 +145,7 @@ void upload(Context& ctx, Buffer& dst, const void* src, VkDeviceSize bytes, VkDe
     std::lock_guard lock(t.mutex);
     for (VkDeviceSize done = 0; done < bytes;) {
         const VkDeviceSize n = std::min(bytes - done, StagedTransfers::kChunk);
-        t.up.ensure(n);
-        std::memcpy(t.up.data(), static_cast<const char*>(src) + done, n);
-        t.cmd.copy(t.up, dst, n, 0, offset + done);
+        t.cmd.upload(dst, static_cast<const char*>(src) + done, n, offset + done);
         t.cmd.submit_and_wait();
         done += n;
     }

@@ -64,6 +64,13 @@ void CommandList::upload(const Buffer& dst, const void* data, VkDeviceSize bytes
     size_t c = 0;
     while (c < staging_.size() && staging_[c].size() - staging_used_[c] < bytes) ++c;
     if (c == staging_.size()) {
+        // None holds it: if this recording uses none yet, one chunk of this size replaces them all
+        // (memory stays what one submission needs, not the sum of every size seen).
+        if (std::all_of(staging_used_.begin(), staging_used_.end(), [](VkDeviceSize u) { return u == 0; })) {
+            staging_.clear();
+            staging_used_.clear();
+            c = 0;
+        }
         staging_.emplace_back(ctx_, std::max<VkDeviceSize>(bytes, VkDeviceSize(1) << 20), MemoryUse::Upload, "upload staging");
         staging_used_.push_back(0);
     }
