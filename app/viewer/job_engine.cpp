@@ -30,7 +30,7 @@ void JobEngine::warm_up() { seg::warm_up(ctx_, scene_.options); }
 
 seg::Anchor JobEngine::lift(const data::Camera& camera, double u, double v, bool positive) {
     return seg::lift_click(lift_renderer_, gpu_scene_, camera, u, v, positive, scene_.options.render,
-                           scene_.options.lift, "click");
+                           scene_.options.lift, "click", &lift_bins_);
 }
 
 seg::Anchor JobEngine::anchor(const data::PromptClick& click) {

@@ -76,6 +76,7 @@ private:
     const SceneData& scene_;
     const render::GpuScene& gpu_scene_;
     render::Renderer lift_renderer_;
+    seg::PixelBins lift_bins_;  // the scene's Gaussians binned per clicked view
     std::map<std::string, std::unique_ptr<seg::Decoder>> decoders_;
     std::map<std::string, std::unique_ptr<seg::Segmenter>> segmenters_;
     std::unique_ptr<seg::ClassNetwork> classifier_;  // the last semantic model used, kept loaded

@@ -5,46 +5,12 @@
 #include <stdexcept>
 
 #include "dataset/error.h"
+#include "engine/segment/pixel_candidates.h"
 #include "engine/vk/context.h"
 #include "shaders/render/render_shared.h"
 #include "shaders/segment/prompt_shared.h"
 
 namespace pg::seg {
-
-namespace {
-
-// The Gaussians that may reach pixel (px, py) of `camera`, in index order. A bound on each
-// footprint from the largest scale alone: a row of the projection's Jacobian times a rotation is
-// as long as the Jacobian's row, so the 2D variances are at most |J row|^2 x largest scale^2 + the
-// low-pass, and the extent is widest at the unfiltered opacity; a pixel of slack covers float
-// rounding. The renderer's own tests cull the rest, so the pixel's contributors are the same.
-std::vector<uint32_t> pixel_candidates(const data::GaussianCloud& cloud, const data::Camera& camera, int px, int py) {
-    std::vector<uint32_t> out;
-    const double u = px + 0.5, v = py + 0.5;
-    // Opacity at most 1 gives the widest extent: a first test with it spares most Gaussians the
-    // opacity's exp and log.
-    const double widest = 2.0 * std::log(255.0) * 1.0001 + 1e-4;
-    for (uint32_t i = 0; i < cloud.size(); ++i) {
-        const glm::dvec3 p = camera.R * glm::dvec3(cloud.mean[i]) + camera.t;
-        if (!(p.z > 0.0)) continue;
-        const glm::dvec3 ls(cloud.log_scale[i]);
-        const double s2 = std::exp(2.0 * std::max(ls.x, std::max(ls.y, ls.z)));
-        const double rx = p.x / p.z, ry = p.y / p.z;
-        const double var_x = camera.fx * camera.fx / (p.z * p.z) * (1.0 + rx * rx) * s2 + render::gpu::kLowPass;
-        const double var_y = camera.fy * camera.fy / (p.z * p.z) * (1.0 + ry * ry) * s2 + render::gpu::kLowPass;
-        const double dx = std::abs(u - (camera.fx * rx + camera.cx)), dy = std::abs(v - (camera.fy * ry + camera.cy));
-        // NaN bounds (a broken Gaussian) keep it: the renderer decides, as it did before.
-        if (dx > std::sqrt(widest * var_x) * 1.01 + 1.0 || dy > std::sqrt(widest * var_y) * 1.01 + 1.0) continue;
-        const double opacity = 1.0 / (1.0 + std::exp(-double(cloud.opacity_logit[i])));
-        if (opacity < render::gpu::kAlphaMin) continue;
-        const double extent2 = 2.0 * std::log(255.0 * opacity) * 1.0001 + 1e-4;
-        if (dx > std::sqrt(extent2 * var_x) * 1.01 + 1.0 || dy > std::sqrt(extent2 * var_y) * 1.01 + 1.0) continue;
-        out.push_back(i);
-    }
-    return out;
-}
-
-}  // namespace
 
 LiftRule parse_lift_rule(const std::string& name, const std::string& option) {
     if (name == "surface") return LiftRule::Surface;
@@ -56,7 +22,7 @@ const char* lift_rule_name(LiftRule rule) { return rule == LiftRule::Surface ? "
 
 Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, const data::Camera& camera, double u,
                   double v, bool positive, const render::RenderSettings& settings, LiftRule rule,
-                  const std::string& what) {
+                  const std::string& what, PixelBins* bins) {
     const int px = int(std::floor(u)), py = int(std::floor(v));
     if (!std::isfinite(u) || !std::isfinite(v) || px < 0 || py < 0 || px >= camera.width || py >= camera.height)
         throw data::InputError(what, "pixel (" + std::to_string(u) + ", " + std::to_string(v) + ") is off the " +
@@ -68,7 +34,7 @@ Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, con
     // few hundred Gaussians, not the scene's (on lavapipe the projection of 150 k was 9 of a
     // lift's 15 ms), whatever the scene's size. Colour plays no part in the pick: SH degree 0.
     const data::GaussianCloud& cloud = scene.cloud();
-    const std::vector<uint32_t> near = pixel_candidates(cloud, camera, px, py);
+    const std::vector<uint32_t> near = bins ? bins->candidates(cloud, camera, px, py) : pixel_candidates(cloud, camera, px, py);
     auto empty = [&](float opacity) {
         return data::InputError(what, "pixel (" + std::to_string(px) + ", " + std::to_string(py) + ") of view " +
                                           camera.name + " is nearly empty (opacity " + std::to_string(opacity) + " < " +

@@ -14,6 +14,7 @@
 #include "engine/render/gpu_scene.h"
 #include "engine/render/renderer.h"
 #include "engine/segment/anchor.h"
+#include "engine/segment/pixel_candidates.h"
 #include "engine/sort/prefix_sum.h"
 
 namespace pg::seg {
@@ -29,9 +30,11 @@ namespace pg::seg {
 // scene of its own picked on the host from scene.cloud() (which must still be alive): a few
 // hundred Gaussians whatever the scene's size, so every click renders its own. The renderer's
 // last frame is then that scene, gone when this returns: render again before pick().
+// `bins`: the caller's per-view bins of scene.cloud() (the same answers; a further click in a
+// view then costs one bin, not a scan of the scene).
 Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, const data::Camera& camera, double u,
                   double v, bool positive, const render::RenderSettings& settings, LiftRule rule,
-                  const std::string& what);
+                  const std::string& what, PixelBins* bins = nullptr);
 
 // A click given in 3D: the anchor is the point itself, and the Gaussian of nearest centre
 // stands for the surface it hit (a scan of the cloud on the host).

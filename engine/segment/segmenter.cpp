@@ -74,7 +74,7 @@ Anchor Segmenter::anchor_for(const data::PromptClick& click, const SegmentOption
     if (click.point) return anchor_at_point(cloud_, *click.point, click.positive);
     auto it = std::find_if(cameras_.begin(), cameras_.end(), [&](auto& c) { return c.name == click.view; });
     if (it == cameras_.end()) throw data::InputError(what, "no camera named '" + click.view + "'");
-    return lift_click(renderer_, scene_, *it, click.u, click.v, click.positive, settings, o.lift, what);
+    return lift_click(renderer_, scene_, *it, click.u, click.v, click.positive, settings, o.lift, what, &lift_bins_);
 }
 
 SegmentResult Segmenter::segment(const data::Prompts& prompts, const SegmentOptions& options, const LiftedClicks& lifted) {

@@ -286,6 +286,7 @@ private:
     GraphOptions graph_built_with_;
     std::optional<DomainNodes> nodes_;    // graph_'s nodes, made once per graph
     std::optional<ColumnIndex> columns_;
+    PixelBins lift_bins_;  // the views clicked last: their Gaussians binned by pixel
     // Per ROI scale, the last walk's answer (a column per label id in ids, 0: background), for
     // warm starts: a scale starts from its own last answer, never from another scale's.
     std::map<double, WarmStart> warm_;
