@@ -282,6 +282,11 @@ private:
     KnnGraph graph_, coarse_graph_;
     RandomWalker walker_;
     SeededForest forest_;
+    // The last graph domain, the ROI boxes and options it came from (domain_key_, empty: none)
+    // and the margin and scales it was taken at.
+    GraphDomain domain_;
+    std::vector<double> domain_key_, domain_scales_;
+    double domain_margin_ = 0;
     std::vector<uint32_t> graph_domain_;  // the domain graph_ was built over, and with which options
     GraphOptions graph_built_with_;
     std::optional<DomainNodes> nodes_;    // graph_'s nodes, made once per graph

@@ -330,25 +330,47 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
                             const std::vector<std::vector<uint32_t>>& rois,
                             const std::vector<std::vector<float>>& probabilities, SegmentResult& result) {
     std::vector<double> scales = roi_scales(o);
-    const ColumnIndex& index = columns(objects.front()->roi);
     double margin = o.graph_margin;
-    auto gaussians = [&] { return domain_gaussians(cloud_, index, objects, margin, std::max(scales.front(), 1.0)); };
-    std::vector<uint32_t> in_domain = gaussians();
     const uint64_t capacity = graph_capacity(o);
-    // Past the graph's limit or the click's budget, the margin narrows first (it costs least),
-    // then the larger scales go: every node of a smaller domain beats every n-th node of a larger
-    // one (2 M tiled guitar, lavapipe: a further click 10.2 s decimated at scale 2, 1.5 s at scale
-    // 1 alone). Only the domain taken is numbered.
     const uint64_t budget = o.graph_budget ? std::min(capacity, o.graph_budget) : capacity;
-    if (in_domain.size() > budget && margin > kNarrowMargin) {
-        margin = kNarrowMargin;
-        in_domain = gaussians();
+    auto t0 = Clock::now();
+    // The domain follows from the objects' ROI boxes and the options alone: a further click on
+    // the same objects (the ROI comes from each object's first positive click) takes the last
+    // one as it is (6 M tiled guitar: about 0.1 s a click of gathering and numbering).
+    std::vector<double> key{double(objects.size()), margin, double(capacity), double(budget)};
+    key.insert(key.end(), scales.begin(), scales.end());
+    for (const auto* obj : objects) {
+        const RoiBox& r = obj->roi;
+        for (const glm::dvec3& v : {r.centre, r.length_axis, r.width_axis}) key.insert(key.end(), {v.x, v.y, v.z});
+        key.insert(key.end(), {r.length, r.width});
     }
-    while (in_domain.size() > budget && scales.size() > 1) {
-        scales.erase(scales.begin());
-        in_domain = gaussians();
+    if (key != domain_key_) {
+        domain_key_.clear();
+        const ColumnIndex& index = columns(objects.front()->roi);
+        auto gaussians = [&] { return domain_gaussians(cloud_, index, objects, margin, std::max(scales.front(), 1.0)); };
+        std::vector<uint32_t> in_domain = gaussians();
+        // Past the graph's limit or the click's budget, the margin narrows first (it costs least),
+        // then the larger scales go: every node of a smaller domain beats every n-th node of a larger
+        // one (2 M tiled guitar, lavapipe: a further click 10.2 s decimated at scale 2, 1.5 s at scale
+        // 1 alone). Only the domain taken is numbered.
+        if (in_domain.size() > budget && margin > kNarrowMargin) {
+            margin = kNarrowMargin;
+            in_domain = gaussians();
+        }
+        while (in_domain.size() > budget && scales.size() > 1) {
+            scales.erase(scales.begin());
+            in_domain = gaussians();
+        }
+        domain_ = graph_domain(cloud_, std::move(in_domain), rois);
+        domain_margin_ = margin;
+        domain_scales_ = scales;
+        domain_key_ = std::move(key);
     }
-    GraphDomain d = graph_domain(cloud_, std::move(in_domain), rois);
+    margin = domain_margin_;
+    scales = domain_scales_;
+    GraphDomain& d = domain_;
+    d.in_roi = d.in_base_roi;  // as graph_domain left it (the last solve scaled it)
+    result.stage_ms["graph domain"] += ms_since(t0);
     if (d.domain.size() > capacity) {
         solve_decimated(o, objects, rois, probabilities, d, capacity, result);
         if (result.graph) result.graph->margin = margin;
@@ -359,7 +381,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     SegmentOptions rest = o;
     if (rebuild && early_coarse_answer(o, objects, d, result)) rest.on_coarse = nullptr;
     stop_if_cancelled(o.cancel);
-    auto t0 = Clock::now();
+    t0 = Clock::now();
     if (rebuild) {
         graph_.build(scene_, cloud_, d.domain, o.graph_options);
         graph_domain_ = d.domain;

@@ -469,6 +469,45 @@ TEST_CASE("graph decoder: each object's click takes its own object, unclicked co
         }
 }
 
+TEST_CASE("graph decoder: a click on the same objects reuses their domain, other objects take their own, and either gives a fresh segmenter's labels") {
+    // One segmenter asked in turn about one pair of objects, another object, and the pair again
+    // (a further click and a changed option): each answer equals a new segmenter's, so the kept
+    // domain is the one the question's ROI boxes and options make.
+    auto s = balls_scene();
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, s.cloud);
+    seg::Segmenter kept(ctx, s.cloud, gpu, s.cameras);
+    seg::SegmentOptions o;
+    o.up = {0, -1, 0};
+    o.scale = 0.5;
+    o.graph = seg::GraphUse::Alone;
+    data::Prompts pair, other, pair_further;
+    pair.objects.push_back({"left", 1, {point_click({-1.0, -0.51, 0.0})}});
+    pair.objects.push_back({"middle", 2, {point_click({0.0, -0.26, -0.25})}});
+    other.objects.push_back({"right", 1, {point_click({1.0, -0.26, 0.0})}});
+    pair_further = pair;
+    pair_further.objects[0].clicks.push_back(point_click({-1.25, -0.26, 0.0}));
+    auto fresh = [&](const data::Prompts& p, const seg::SegmentOptions& opt) {
+        seg::Segmenter one(ctx, s.cloud, gpu, s.cameras);
+        return one.segment(p, opt);
+    };
+    seg::SegmentOptions narrow = o;
+    narrow.graph_margin = seg::kNarrowMargin;
+    const std::vector<std::pair<const data::Prompts*, const seg::SegmentOptions*>> asks{
+        {&pair, &o}, {&other, &o}, {&pair, &o}, {&pair_further, &o}, {&pair_further, &narrow}, {&pair, &o}};
+    size_t step = 0;
+    for (auto [p, opt] : asks) {
+        INFO("question " << step++);
+        const auto got = kept.segment(*p, *opt);
+        const auto want = fresh(*p, *opt);
+        REQUIRE(got.graph);
+        REQUIRE(want.graph);
+        CHECK(got.graph->domain == want.graph->domain);
+        CHECK(got.graph->margin == want.graph->margin);
+        CHECK(got.labels == want.labels);
+    }
+}
+
 TEST_CASE("graph decoder: a piece split off an object's graph follows the object it is bridged to, a far one stays unlabelled") {
     // A dense pebble of the left ball's colour 0.12 beside it: every node's neighbours lie inside
     // it, so it is a component no seed reaches; its bridges (its nodes' nearest seeded nodes, all
