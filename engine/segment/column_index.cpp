@@ -56,7 +56,7 @@ ColumnIndex::ColumnIndex(const data::GaussianCloud& cloud, const glm::dvec3& a, 
     for (size_t i = 0; i < n; ++i) ids_[fill[cell_of(uv[i])]++] = uint32_t(i);
 }
 
-std::vector<uint32_t> ColumnIndex::candidates(const glm::dvec3& centre, double half_a, double half_b) const {
+std::vector<uint32_t> ColumnIndex::candidates(const glm::dvec3& centre, double half_a, double half_b, bool sorted) const {
     // Widened well past float rounding: the exact test (on the GPU in float, or on the host in
     // double) comes after, on these candidates.
     const glm::dvec2 c(glm::dot(centre, a_), glm::dot(centre, b_));
@@ -73,7 +73,7 @@ std::vector<uint32_t> ColumnIndex::candidates(const glm::dvec3& centre, double h
         const size_t row = size_t(y) * nx_;
         out.insert(out.end(), ids_.begin() + start_[row + cx0], ids_.begin() + start_[row + cx1 + 1]);
     }
-    std::sort(out.begin(), out.end());
+    if (sorted) std::sort(out.begin(), out.end());
     return out;
 }
 

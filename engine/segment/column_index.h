@@ -17,8 +17,9 @@ public:
     ColumnIndex(const data::GaussianCloud& cloud, const glm::dvec3& a, const glm::dvec3& b);
 
     // Every Gaussian whose centre c has |(c - centre) . a| <= half_a and |(c - centre) . b| <= half_b,
-    // and some near it (whole cells, and a margin for float rounding): a superset, ascending.
-    std::vector<uint32_t> candidates(const glm::dvec3& centre, double half_a, double half_b) const;
+    // and some near it (whole cells, and a margin for float rounding): a superset, ascending, or
+    // cell by cell where the caller's order does not matter (`sorted` false: no sort of them all).
+    std::vector<uint32_t> candidates(const glm::dvec3& centre, double half_a, double half_b, bool sorted = true) const;
 
     bool has_axes(const glm::dvec3& a, const glm::dvec3& b) const { return a == a_ && b == b_; }
     size_t size() const { return ids_.size(); }

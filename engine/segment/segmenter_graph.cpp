@@ -161,7 +161,7 @@ std::vector<uint32_t> domain_gaussians(const data::GaussianCloud& cloud, const C
     const double factor = reach * (1 + 2 * margin);
     // Each object's column from the index's candidates.
     for (auto* obj : objects)
-        for (uint32_t i : columns.candidates(obj->roi.centre, factor * obj->roi.length / 2, factor * obj->roi.width / 2))
+        for (uint32_t i : columns.candidates(obj->roi.centre, factor * obj->roi.length / 2, factor * obj->roi.width / 2, false))
             if (!taken[i] && in_column(obj->roi, glm::dvec3(cloud.mean[i]), factor)) {
                 taken[i] = 1;
                 domain.push_back(i);
