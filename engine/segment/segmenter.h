@@ -7,6 +7,7 @@
 // over the Gaussians' kNN graph. An object whose clicks cannot be lifted (or whose ROI is
 // empty) fails alone: its error is kept and the others are segmented.
 #include <functional>
+#include <list>
 #include <map>
 #include <memory>
 #include <optional>
@@ -264,7 +265,16 @@ private:
     // `seeded`: per node, whether its component holds a seed or prior).
     void bridge_components(const SegmentOptions& o, const std::vector<uint32_t>& domain,
                            const std::vector<uint32_t>& root, const std::vector<uint8_t>& seeded,
-                           const WalkProblem& pr, LabelColumns& x) const;
+                           const WalkProblem& pr, LabelColumns& x);
+    // Each unseeded node's bridge: its far end and weight (0: none), and the unseeded nodes
+    // grouped by component; made once per graph and set of seeded components.
+    struct Bridges {
+        std::vector<uint8_t> seeded;
+        std::vector<uint32_t> unseeded, end;
+        std::vector<double> weight;
+    };
+    const Bridges& bridges_for(const SegmentOptions& o, const std::vector<uint32_t>& domain,
+                               const std::vector<uint32_t>& root, const std::vector<uint8_t>& seeded);
     Anchor anchor_for(const data::PromptClick& click, const SegmentOptions& o, const std::string& what);
     // The scene's Gaussians binned across up in the ROI's axes (made on the first click, and
     // again only if the axes change).
@@ -290,6 +300,8 @@ private:
     std::vector<uint32_t> graph_domain_;  // the domain graph_ was built over, and with which options
     GraphOptions graph_built_with_;
     std::optional<DomainNodes> nodes_;    // graph_'s nodes, made once per graph
+    std::vector<uint32_t> roots_;         // graph_'s components (per node, its root), once per graph
+    std::list<Bridges> bridges_;          // graph_'s bridges, the last used first (one per ROI scale)
     std::optional<ColumnIndex> columns_;
     PixelBins lift_bins_;  // the views clicked last: their Gaussians binned by pixel
     // Per ROI scale, the last walk's answer (a column per label id in ids, 0: background), for

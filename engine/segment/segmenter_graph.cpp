@@ -389,6 +389,8 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         for (const auto& t : graph_.timings()) result.stage_ms["graph build gpu"] += t.ms;
         warm_.clear();
         nodes_.reset();
+        roots_.clear();
+        bridges_.clear();
     }
     if (!nodes_) nodes_.emplace(cloud_, d, true);
     result.stage_ms["graph build"] += ms_since(t0);
@@ -498,6 +500,8 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
     graph_domain_.clear();  // graph_ does not hold this domain: the next click builds again
     nodes_.reset();
     warm_.clear();
+    roots_.clear();
+    bridges_.clear();
 
     auto t0 = Clock::now();
     const uint32_t nodes = uint32_t(d.domain.size());
@@ -791,7 +795,8 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
         }
     }
     auto t0 = Clock::now();
-    const auto root = component_roots(graph_, nbr);
+    if (roots_.empty()) roots_ = component_roots(graph_, nbr);  // per graph
+    const std::vector<uint32_t>& root = roots_;
     result.stage_ms["graph components"] += ms_since(t0);
     if (!warm && o.coarse_stride > 1 && nodes >= 64 * o.coarse_stride) {
         // Jacobi starts from the coarse answer (it needs about an iteration per hop); multigrid
@@ -851,20 +856,29 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
     result.graph = report;
 }
 
-void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uint32_t>& domain,
-                                  const std::vector<uint32_t>& root, const std::vector<uint8_t>& seeded,
-                                  const WalkProblem& pr, LabelColumns& x) const {
+const Segmenter::Bridges& Segmenter::bridges_for(const SegmentOptions& o, const std::vector<uint32_t>& domain,
+                                                 const std::vector<uint32_t>& root, const std::vector<uint8_t>& seeded) {
+    // The bridges depend on the graph and on which components hold a seed, not on the answer:
+    // a further click on the same graph (seeds in the same components) reuses them.
+    for (auto it = bridges_.begin(); it != bridges_.end(); ++it)
+        if (it->seeded == seeded) {
+            bridges_.splice(bridges_.begin(), bridges_, it);
+            return bridges_.front();
+        }
+    if (bridges_.size() >= 2) bridges_.pop_back();  // one per ROI scale
+    Bridges& made = bridges_.emplace_front();
+    made.seeded = seeded;
+    const uint32_t nodes = uint32_t(domain.size());
     // A component that no seed or prior reaches is a singular system the walk leaves as it
     // started. Each of its nodes is bridged to its nearest node in a seeded component (within 4
     // grid cells, about 10 spacings: past that the affinity is below e^-100), the bridge weighing
     // the edges' affinity (colour, distance in median spacings, opacity; no normal term); the
     // component takes the bridge-weighted mean of the answers at the far ends, as the walk would
     // if those bridges were its only edges out. Bridges that all vanish leave it unlabelled.
-    const uint32_t nodes = uint32_t(domain.size()), labels = pr.labels;
     std::vector<uint32_t> members;
     for (uint32_t i = 0; i < nodes; ++i)
         if (seeded[i]) members.push_back(i);
-    if (members.empty() || members.size() == nodes) return;
+    if (members.empty() || members.size() == nodes) return made;
     if (!nodes_ || nodes_->appearance.size() != size_t(nodes) * 4)
         throw std::logic_error("bridge_components: no node data for this domain");
     const std::vector<glm::vec3>& position = nodes_->position;
@@ -910,8 +924,11 @@ void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uin
     data::clicks::PointGrid grid(position, ends, cell);
     // Each unseeded node's bridge (far end, weight), then component by component (nodes grouped
     // by root): memory stays one label vector, whatever the number of labels and components.
-    std::vector<uint32_t> end(nodes, 0), unseeded;
-    std::vector<double> bridge(nodes, 0.0);
+    std::vector<uint32_t>& end = made.end;
+    std::vector<uint32_t>& unseeded = made.unseeded;
+    std::vector<double>& bridge = made.weight;
+    end.assign(nodes, 0);
+    bridge.assign(nodes, 0.0);
     for (uint32_t i = 0; i < nodes; ++i) {
         if (seeded[i]) continue;
         unseeded.push_back(i);
@@ -923,6 +940,17 @@ void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uin
                     std::pow(double(std::min(opacity(i), opacity(end[i]))), double(go.opacity));
     }
     std::stable_sort(unseeded.begin(), unseeded.end(), [&](uint32_t a, uint32_t b) { return root[a] < root[b]; });
+    return made;
+}
+
+void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uint32_t>& domain,
+                                  const std::vector<uint32_t>& root, const std::vector<uint8_t>& seeded,
+                                  const WalkProblem& pr, LabelColumns& x) {
+    const Bridges& b_set = bridges_for(o, domain, root, seeded);
+    const std::vector<uint32_t>& unseeded = b_set.unseeded;
+    const std::vector<uint32_t>& end = b_set.end;
+    const std::vector<double>& bridge = b_set.weight;
+    const uint32_t labels = pr.labels;
     std::vector<double> sum(labels);
     std::vector<float> values(labels);
     for (size_t b = 0; b < unseeded.size();) {
@@ -959,7 +987,8 @@ void Segmenter::solve_forest(const SegmentOptions& o, std::vector<ObjectResult*>
     WalkProblem seeds_only;
     seeds_only.labels = labels;
     seeds_only.seed = std::move(seed);
-    reached_components(component_roots(graph_, nbr), seeds_only, LabelColumns(), report);
+    if (roots_.empty()) roots_ = component_roots(graph_, nbr);
+    reached_components(roots_, seeds_only, LabelColumns(), report);
     for (uint32_t i = 0; i < nodes; ++i)
         if (forest.label[i] > 0) objects[size_t(forest.label[i]) - 1]->claims.push_back({domain[i], 1.0f});
     result.graph = report;

@@ -537,6 +537,25 @@ TEST_CASE("graph decoder: a piece split off an object's graph follows the object
     CHECK(pebble_left == 80);
     CHECK(floating_labelled == 0);
     CHECK(r.graph->unreached >= 60);  // the floating cluster, counted
+
+    // A further click and a negative one on the middle ball's object: the bridges kept from the
+    // first solve (the same components hold seeds) carry the new answers as a new segmenter's do
+    // (up to the walk's tolerance: this one starts from its last answer, a new one from nothing).
+    p.objects[0].clicks.push_back(point_click({-1.25, -0.26, 0.0}));
+    for (int step = 0; step < 2; ++step) {
+        INFO("further click " << step);
+        if (step == 1) p.objects[1].clicks.push_back(point_click({0.0, -0.01, 0.5}, false));
+        const auto again = segmenter.segment(p, o);
+        seg::Segmenter fresh(ctx, s.cloud, gpu, s.cameras);
+        const auto want = fresh.segment(p, o);
+        size_t differ = 0;
+        for (size_t i = 0; i < want.labels.size(); ++i) differ += again.labels[i] != want.labels[i];
+        INFO(differ << " labels differ");
+        CHECK(differ * 100 <= want.labels.size());
+        size_t pebble = 0;
+        for (size_t i = pebble_first; i < s.ball.size(); ++i) pebble += again.labels[i] == 1;
+        CHECK(pebble == 80);
+    }
 }
 
 TEST_CASE("segmenter: an object whose clicks cannot be lifted fails alone, the others are segmented") {
