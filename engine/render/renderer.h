@@ -91,6 +91,9 @@ public:
     // The last frame's scene must still be alive; a streamed scene's frame must have been one
     // slab (render it with a window around the pixel).
     PixelPick pick(int x, int y);
+    // The last frame's scene is gone (a caller's own short-lived scene): pick() refuses until
+    // the next frame instead of reading freed buffers.
+    void forget_scene() { last_scene_ = nullptr; }
 
     vk::Context& context() const { return ctx_; }
     const std::vector<vk::PassTiming>& timings() const { return timings_; }

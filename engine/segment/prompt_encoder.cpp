@@ -51,6 +51,10 @@ Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, con
         for (int c = 0; c < 3; ++c) few.sh.push_back(cloud.sh[size_t(i) * cloud.coeffs() * 3 + c]);
     }
     const render::GpuScene few_scene(renderer.context(), few);
+    struct Forget {  // the renderer's last frame is few_scene's, gone when this returns
+        render::Renderer& r;
+        ~Forget() { r.forget_scene(); }
+    } forget{renderer};
     s.window = glm::ivec4(px, py, px + 1, py + 1);
     s.lists_only = true;  // the pick walks the pixel's tile list itself
     renderer.render(few_scene, camera, s);

@@ -28,8 +28,8 @@ namespace pg::seg {
 // Throws InputError naming `what` when the pixel is off the image or (nearly) empty.
 // Renders only what may reach the pixel (a window of the view at the camera's own size), as a
 // scene of its own picked on the host from scene.cloud() (which must still be alive): a few
-// hundred Gaussians whatever the scene's size, so every click renders its own. The renderer's
-// last frame is then that scene, gone when this returns: render again before pick().
+// hundred Gaussians whatever the scene's size, so every click renders its own. The renderer
+// then holds no frame to pick from (Renderer::forget_scene): render again before pick().
 // `bins`: the caller's per-view bins of scene.cloud() (the same answers; a further click in a
 // view then costs one bin, not a scan of the scene).
 Anchor lift_click(render::Renderer& renderer, const render::GpuScene& scene, const data::Camera& camera, double u,
