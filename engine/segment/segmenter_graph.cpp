@@ -865,9 +865,13 @@ const Segmenter::Bridges& Segmenter::bridges_for(const SegmentOptions& o, const 
             bridges_.splice(bridges_.begin(), bridges_, it);
             return bridges_.front();
         }
-    if (bridges_.size() >= 2) bridges_.pop_back();  // one per ROI scale
-    Bridges& made = bridges_.emplace_front();
+    Bridges made;  // kept only once whole
     made.seeded = seeded;
+    auto keep = [&]() -> const Bridges& {
+        if (bridges_.size() >= 2) bridges_.pop_back();  // one per ROI scale
+        bridges_.push_front(std::move(made));
+        return bridges_.front();
+    };
     const uint32_t nodes = uint32_t(domain.size());
     // A component that no seed or prior reaches is a singular system the walk leaves as it
     // started. Each of its nodes is bridged to its nearest node in a seeded component (within 4
@@ -878,7 +882,7 @@ const Segmenter::Bridges& Segmenter::bridges_for(const SegmentOptions& o, const 
     std::vector<uint32_t> members;
     for (uint32_t i = 0; i < nodes; ++i)
         if (seeded[i]) members.push_back(i);
-    if (members.empty() || members.size() == nodes) return made;
+    if (members.empty() || members.size() == nodes) return keep();
     if (!nodes_ || nodes_->appearance.size() != size_t(nodes) * 4)
         throw std::logic_error("bridge_components: no node data for this domain");
     const std::vector<glm::vec3>& position = nodes_->position;
@@ -940,7 +944,7 @@ const Segmenter::Bridges& Segmenter::bridges_for(const SegmentOptions& o, const 
                     std::pow(double(std::min(opacity(i), opacity(end[i]))), double(go.opacity));
     }
     std::stable_sort(unseeded.begin(), unseeded.end(), [&](uint32_t a, uint32_t b) { return root[a] < root[b]; });
-    return made;
+    return keep();
 }
 
 void Segmenter::bridge_components(const SegmentOptions& o, const std::vector<uint32_t>& domain,
