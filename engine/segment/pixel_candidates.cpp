@@ -15,28 +15,39 @@ constexpr uint64_t kMostBins = 64;      // a footprint over more bins is tested 
 // opacity's exp and log.
 const double kWidest = 2.0 * std::log(255.0) * 1.0001 + 1e-4;
 
-// Whether Gaussian i may reach pixel (px, py). A bound on each footprint from the largest scale
-// alone: a row of the projection's Jacobian times a rotation is as long as the Jacobian's row,
-// so the 2D variances are at most |J row|^2 x largest scale^2 + the low-pass, and the extent is
-// widest at the unfiltered opacity (tested first: it spares most Gaussians the opacity's exp
-// and log); a pixel of slack covers float rounding. The renderer's own tests cull the rest, so
-// the pixel's contributors are the same. NaN bounds (a broken Gaussian) keep it: the renderer
-// decides.
-bool reaches(const data::GaussianCloud& cloud, const data::Camera& camera, uint32_t i, int px, int py) {
-    const double u = px + 0.5, v = py + 0.5;
-    const glm::dvec3 p = camera.R * glm::dvec3(cloud.mean[i]) + camera.t;
+// Where a Gaussian's centre lands and a bound on its 2D variances, from its largest scale
+// squared (s2) alone: a row of the projection's Jacobian times a rotation is as long as the
+// Jacobian's row, so the variances are at most |J row|^2 x s2 + the low-pass. False behind the
+// camera.
+struct Projected {
+    double sx = 0, sy = 0, var_x = 0, var_y = 0;
+};
+bool project(const data::Camera& camera, const glm::vec3& mean, double s2, Projected& f) {
+    const glm::dvec3 p = camera.R * glm::dvec3(mean) + camera.t;
     if (!(p.z > 0.0)) return false;
-    const glm::dvec3 ls(cloud.log_scale[i]);
-    const double s2 = std::exp(2.0 * std::max(ls.x, std::max(ls.y, ls.z)));
     const double rx = p.x / p.z, ry = p.y / p.z;
-    const double var_x = camera.fx * camera.fx / (p.z * p.z) * (1.0 + rx * rx) * s2 + render::gpu::kLowPass;
-    const double var_y = camera.fy * camera.fy / (p.z * p.z) * (1.0 + ry * ry) * s2 + render::gpu::kLowPass;
-    const double dx = std::abs(u - (camera.fx * rx + camera.cx)), dy = std::abs(v - (camera.fy * ry + camera.cy));
-    if (dx > std::sqrt(kWidest * var_x) * 1.01 + 1.0 || dy > std::sqrt(kWidest * var_y) * 1.01 + 1.0) return false;
+    f.var_x = camera.fx * camera.fx / (p.z * p.z) * (1.0 + rx * rx) * s2 + render::gpu::kLowPass;
+    f.var_y = camera.fy * camera.fy / (p.z * p.z) * (1.0 + ry * ry) * s2 + render::gpu::kLowPass;
+    f.sx = camera.fx * rx + camera.cx;
+    f.sy = camera.fy * ry + camera.cy;
+    return true;
+}
+
+// Whether Gaussian i may reach pixel (px, py): within its projected bound at the widest extent
+// (the unfiltered opacity; tested first, it spares most Gaussians the opacity's exp and log),
+// then at its own opacity, with a pixel of slack for float rounding. The renderer's own tests
+// cull the rest, so the pixel's contributors are the same. NaN bounds (a broken Gaussian) keep
+// it: the renderer decides.
+bool reaches(const data::GaussianCloud& cloud, const data::Camera& camera, uint32_t i, int px, int py) {
+    const glm::vec3 ls = cloud.log_scale[i];
+    Projected f;
+    if (!project(camera, cloud.mean[i], std::exp(2.0 * double(std::max(ls.x, std::max(ls.y, ls.z)))), f)) return false;
+    const double dx = std::abs(px + 0.5 - f.sx), dy = std::abs(py + 0.5 - f.sy);
+    if (dx > std::sqrt(kWidest * f.var_x) * 1.01 + 1.0 || dy > std::sqrt(kWidest * f.var_y) * 1.01 + 1.0) return false;
     const double opacity = 1.0 / (1.0 + std::exp(-double(cloud.opacity_logit[i])));
     if (opacity < render::gpu::kAlphaMin) return false;
     const double extent2 = 2.0 * std::log(255.0 * opacity) * 1.0001 + 1e-4;
-    return !(dx > std::sqrt(extent2 * var_x) * 1.01 + 1.0 || dy > std::sqrt(extent2 * var_y) * 1.01 + 1.0);
+    return !(dx > std::sqrt(extent2 * f.var_x) * 1.01 + 1.0 || dy > std::sqrt(extent2 * f.var_y) * 1.01 + 1.0);
 }
 
 bool same_view(const data::Camera& a, const data::Camera& b) {
@@ -87,13 +98,10 @@ PixelBins::View PixelBins::bin(const data::GaussianCloud& cloud, const data::Cam
         uint32_t x0, y0, x1, y1;
     };
     auto rect_of = [&](uint32_t i, Rect& r) {
-        const glm::dvec3 p = camera.R * glm::dvec3(cloud.mean[i]) + camera.t;
-        if (!(p.z > 0.0) || size_[i].y < 0.0) return Where::Nowhere;
-        const double rx = p.x / p.z, ry = p.y / p.z;
-        const double var_x = camera.fx * camera.fx / (p.z * p.z) * (1.0 + rx * rx) * double(size_[i].x) + render::gpu::kLowPass;
-        const double var_y = camera.fy * camera.fy / (p.z * p.z) * (1.0 + ry * ry) * double(size_[i].x) + render::gpu::kLowPass;
-        const double sx = camera.fx * rx + camera.cx, sy = camera.fy * ry + camera.cy;
-        const double bx = std::sqrt(double(size_[i].y) * var_x) * 1.01 + 1.0, by = std::sqrt(double(size_[i].y) * var_y) * 1.01 + 1.0;
+        Projected f;
+        if (size_[i].y < 0.0f || !project(camera, cloud.mean[i], double(size_[i].x), f)) return Where::Nowhere;
+        const double sx = f.sx, sy = f.sy;
+        const double bx = std::sqrt(double(size_[i].y) * f.var_x) * 1.01 + 1.0, by = std::sqrt(double(size_[i].y) * f.var_y) * 1.01 + 1.0;
         const double lo_x = std::floor(sx - bx - 0.5) - 1.0, hi_x = std::ceil(sx + bx - 0.5) + 1.0;
         const double lo_y = std::floor(sy - by - 0.5) - 1.0, hi_y = std::ceil(sy + by - 0.5) + 1.0;
         if (!std::isfinite(lo_x) || !std::isfinite(hi_x) || !std::isfinite(lo_y) || !std::isfinite(hi_y)) return Where::Always;

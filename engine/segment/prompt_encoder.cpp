@@ -7,7 +7,6 @@
 #include "dataset/error.h"
 #include "engine/segment/pixel_candidates.h"
 #include "engine/vk/context.h"
-#include "shaders/render/render_shared.h"
 #include "shaders/segment/prompt_shared.h"
 
 namespace pg::seg {

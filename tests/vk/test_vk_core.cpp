@@ -14,6 +14,18 @@ using namespace pg;
 using vk::gpu::FillPush;
 using vk::gpu::IndirectArgsPush;
 
+namespace {
+// A quiet context of its own with validation on, its device memory unified or split as a
+// discrete GPU's (host-visible staging, unmapped device buffers).
+vk::ContextOptions validated(bool discrete_memory) {
+    vk::ContextOptions o;
+    o.validation = true;
+    o.quiet = true;
+    o.discrete_memory = discrete_memory;
+    return o;
+}
+}  // namespace
+
 TEST_CASE("the context picks a device and reports it") {
     auto& ctx = test::gpu();
     CHECK_FALSE(ctx.info().name.empty());
@@ -52,11 +64,7 @@ TEST_CASE("buffers round-trip through every memory use") {
 }
 
 TEST_CASE("with discrete memory emulated, device buffers are not mapped and data goes through staging") {
-    vk::ContextOptions o;
-    o.validation = true;
-    o.quiet = true;
-    o.discrete_memory = true;
-    vk::Context ctx(o);
+    vk::Context ctx(validated(true));
     CHECK_FALSE(ctx.info().unified_memory);
     std::vector<uint32_t> data(5000);
     std::iota(data.begin(), data.end(), 3u);
@@ -75,11 +83,7 @@ TEST_CASE("with discrete memory emulated, device buffers are not mapped and data
 
 TEST_CASE("uploads recorded in a command list land before its later commands, staged or mapped, list after list") {
     for (const bool discrete : {false, true}) {
-        vk::ContextOptions o;
-        o.validation = true;
-        o.quiet = true;
-        o.discrete_memory = discrete;
-        vk::Context ctx(o);
+        vk::Context ctx(validated(discrete));
         // Larger than the list's first staging chunk (1 MiB), so a second chunk is taken.
         std::vector<uint32_t> small(5000), big(600000);
         vk::Buffer a(ctx, small.size() * 4, vk::MemoryUse::Device, "a"), b(ctx, big.size() * 4, vk::MemoryUse::Device, "b");
@@ -104,11 +108,7 @@ TEST_CASE("uploads recorded in a command list land before its later commands, st
 }
 
 TEST_CASE("transfers larger than the staging memory go in chunks, offsets kept") {
-    vk::ContextOptions o;
-    o.validation = true;
-    o.quiet = true;
-    o.discrete_memory = true;
-    vk::Context ctx(o);
+    vk::Context ctx(validated(true));
     // 40 MiB + a bit: past the 32 MiB the context keeps for staging.
     const size_t n = (size_t(40) << 18) + 77;
     std::vector<uint32_t> data(n);
