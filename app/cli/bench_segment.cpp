@@ -32,6 +32,7 @@ struct BenchSegmentArgs {
     bool json = false, coarse_answer = false, warm_up = false;
     std::vector<double> graph_scales{1.0, 2.0};
     uint64_t graph_budget = seg::SegmentOptions{}.graph_budget;
+    uint64_t graph_focus = seg::SegmentOptions{}.graph_focus;
     DeviceOptions device;
 };
 
@@ -73,6 +74,7 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     o.graph = graph;
     o.graph_scales = checked_graph_scales(a.graph_scales);
     o.graph_budget = a.graph_budget;
+    o.graph_focus = a.graph_focus;
     // The viewer's path: a cold solve first hands over the coarse graph's answer.
     auto t0 = std::chrono::steady_clock::now();
     double coarse_ms = -1, new_coarse_ms = -1;
@@ -214,6 +216,7 @@ void register_bench_segment(CLI::App& bench, std::function<void()>& run) {
     cmd->add_option("--decoder", a->decoder, "ptv3 (the ground truth stands in for the network), graph or ptv3+graph (all objects' first clicks, solved together; repeats start warm)")->capture_default_str();
     cmd->add_option("--graph-scales", a->graph_scales, "Graph decoders: the ROI scales solved (as segment --graph-scales)")->delimiter(',')->capture_default_str();
     cmd->add_option("--graph-budget", a->graph_budget, "Graph decoders: a click's budget in nodes (as segment --graph-budget; 0: none)")->capture_default_str();
+    cmd->add_option("--graph-focus", a->graph_focus, "Graph decoders: past this many nodes the fine graph covers the objects' coarse answers (as segment --graph-focus; 0: never)")->capture_default_str();
     cmd->add_option("--label-property", a->label_property, "Property the ground-truth decoder reads")
         ->capture_default_str();
     cmd->add_flag("--json", a->json, "Print JSON instead of tables");

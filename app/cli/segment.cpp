@@ -45,6 +45,7 @@ struct SegmentArgs {
     double unary_clean = seg::SegmentOptions{}.unary_clean;
     uint32_t coarse = 8;
     uint64_t graph_max_nodes = 0, graph_budget = seg::SegmentOptions{}.graph_budget;
+    uint64_t graph_focus = seg::SegmentOptions{}.graph_focus;
     double margin = seg::SegmentOptions{}.graph_margin;
     std::vector<double> scales{1.0, 2.0};
     double scale_ratio = 0.25;
@@ -124,6 +125,7 @@ void run_segment(const SegmentArgs& args) {
     o.coarse_stride = a.coarse;
     o.graph_max_nodes = a.graph_max_nodes;
     o.graph_budget = a.graph_budget;
+    o.graph_focus = a.graph_focus;
     o.graph_margin = a.margin;
     if (!(a.scale_ratio > 0 && a.scale_ratio <= 1))
         throw data::InputError("--graph-scale-ratio", "expected a ratio in (0, 1], got " + std::to_string(a.scale_ratio));
@@ -176,7 +178,7 @@ void run_segment(const SegmentArgs& args) {
         auto& g = *result.graph;
         report["graph"] = {{"solver", seg::graph_solver_name(g.solver)}, {"nodes", g.nodes},         {"seeds", g.seeds},         {"unreached", g.unreached}, {"unreached_components", g.unreached_components},
                            {"iterations", g.iterations}, {"levels", g.levels}, {"jacobi_retries", g.jacobi_retries}, {"rounds", g.rounds}, {"forest_free", g.forest_free}, {"residual", g.residual}, {"cell", g.cell},
-                           {"spacing", g.spacing},     {"k", o.graph_options.k}, {"domain", g.domain}, {"stride", g.stride}, {"margin", g.margin}};
+                           {"spacing", g.spacing},     {"k", o.graph_options.k}, {"domain", g.domain}, {"stride", g.stride}, {"margin", g.margin}, {"focused", g.focused}};
     }
     report["failed"] = failed;
     report["gaussians"] = cloud.size();
@@ -281,6 +283,7 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--graph-distance", a->graph.distance, "Graph: distance fall-off in local spacings")->capture_default_str();
     cmd->add_option("--graph-max-nodes", a->graph_max_nodes, "Graph: most nodes one graph holds (0: what the device's largest binding allows); a larger domain is solved on every n-th Gaussian, the rest labelled as their nearest solved one")->capture_default_str();
     cmd->add_option("--graph-budget", a->graph_budget, "Graph: a click's budget in nodes; past it the margin narrows to 0.1, then the larger --graph-scales are left out (before any decimation), so a click costs about what the ROIs at the smallest scale hold (0: no budget)")->capture_default_str();
+    cmd->add_option("--graph-focus", a->graph_focus, "Graph: past this many nodes a domain is first solved on every n-th node (--walk-coarse); the fine graph then covers the box of what each object's coarse walk reaches (grown by a quarter per side) and the same margin around it, so a click's cost follows the object, not the scene (0: never)")->capture_default_str();
     cmd->add_option("--graph-margin", a->margin, "Graph: the solve's domain is the largest scaled ROIs widened by this fraction per side; what lies in the margin seeds the background")->capture_default_str();
     cmd->add_option("--graph-scales", a->scales, "Graph: the background's boundary at each object's ROI scaled by each of these, one solve each; per object the smallest scale's answer stands unless a larger one's boundary contrast is below --graph-scale-ratio times its own; ptv3+graph then solves the largest once more with the network's prior, whose answer stands per object where its boundary contrast is no higher than the chosen one's (or below --unary-clean where the chosen one's is 0)")->delimiter(',')->capture_default_str();
     cmd->add_option("--graph-scale-ratio", a->scale_ratio, "Graph: how much weaker (mean cut edge weight over mean inside edge weight) a larger ROI's boundary must be to win")->capture_default_str();

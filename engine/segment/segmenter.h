@@ -93,6 +93,16 @@ struct SegmentOptions {
     // larger scales are left out, all before any decimation: a click on a scene of millions
     // costs about what the ROIs at scale 1 hold (0: no budget, only graph_max_nodes).
     uint64_t graph_budget = 600000;
+    // A domain of more nodes than this (within the budget) is first solved on its coarse graph
+    // (the coarse answer's rule, at its largest ROI scale); the fine graph then covers only each
+    // object's coarse support, its box grown by graph_focus_grow of its extent per side (within
+    // the ROI), and the margin the domain was taken at around that, which seeds the background
+    // (0: never). A click's cost then follows the object, not the scene around it. Above every
+    // benchmark suite's domain (116-349 k nodes): where objects fill the domain the focus is
+    // refused after its coarse solve (1.3-1.7 s of a residence click spent for nothing).
+    uint64_t graph_focus = 400000;
+    double graph_focus_grow = 0.25;
+    float graph_focus_support = 0.2f;  // a coarse node is the object's where its walk reaches this
     uint32_t coarse_stride = 8;   // walk: a first solve on every n-th node starts the fine one (1: none);
                                   // with multigrid only where the fine graph's component holds no seed
                                   // or prior (what the coarse graph joins to the rest and labels)
@@ -146,6 +156,7 @@ struct GraphReport {
     uint32_t stride = 1;
     size_t domain = 0;           // Gaussians in the solve's domain
     double margin = 0;           // the margin it was taken with (narrower than asked past graph_budget)
+    bool focused = false;        // the domain is the objects' coarse answers' boxes (SegmentOptions::graph_focus)
 };
 
 struct SegmentResult {
@@ -221,6 +232,17 @@ private:
     // decoder allows it (graph alone, a walk); false if it was not given.
     bool early_coarse_answer(const SegmentOptions& o, const std::vector<ObjectResult*>& objects, const GraphDomain& d,
                              SegmentResult& result);
+    // Whether the coarse solve serves these options on a domain of `nodes` (a walk, a stride).
+    static bool coarse_allowed(const SegmentOptions& o, size_t nodes);
+    // Per node of d: the coarse solve's label (-1: none, 0: background) and confidence, from the
+    // clicks' nearest nodes and the margin (d.in_roi as it stands). `support`: per object the
+    // coarse nodes' centres that its walk reaches with graph_focus_support, or that it labels.
+    // Without `carry` the per-node labels are left empty (no node looks up its coarse node).
+    std::pair<std::vector<int32_t>, std::vector<float>> coarse_labels(const SegmentOptions& o,
+                                                                      const std::vector<ObjectResult*>& objects,
+                                                                      const GraphDomain& d,
+                                                                      std::vector<std::vector<glm::vec3>>* support = nullptr,
+                                                                      bool carry = true);
     // ptv3+graph: the networks' confident probabilities as unary terms (and which networks are
     // trusted), each of strength `unary` x the node's degree in `degree` (null: `unary` alone, for a
     // problem the coarse graph solves with its own degrees).
@@ -247,7 +269,8 @@ private:
                        const std::vector<float>& confidence, const SegmentResult& so_far) const;
     // The same problem on every coarse_stride-th node (in scene order, or else in the nodes'
     // Morton order) and the clicks' nodes, walked on coarse_graph_; `spread_clicks`: the fine
-    // problem seeds each click at one node, seed its coarse neighbours too.
+    // problem seeds each click at one node, seed its coarse neighbours too; without `carry` no
+    // fine node looks up its nearest coarse node (`nearest` stays empty).
     static constexpr uint32_t kNoCoarse = 0xFFFFFFFFu;
     struct CoarseSolve {
         std::vector<uint32_t> members;  // coarse node -> fine node
@@ -257,7 +280,7 @@ private:
         std::vector<uint32_t> nearest;  // fine node -> its nearest coarse node (kNoCoarse: none)
     };
     CoarseSolve coarse_solve(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine,
-                             bool spread_clicks, bool scene_order, bool walk = true);
+                             bool spread_clicks, bool scene_order, bool walk = true, bool carry = true);
     // A starting point for the fine solve: each node starts from its nearest coarse node's answer.
     LabelColumns coarse_start(const SegmentOptions& o, const std::vector<uint32_t>& domain, const WalkProblem& fine);
     // After a walk: each graph component that no seed or prior reaches takes the bridge-weighted
@@ -297,6 +320,8 @@ private:
     GraphDomain domain_;
     std::vector<double> domain_key_, domain_scales_;
     double domain_margin_ = 0;
+    std::vector<RoiBox> domain_boxes_;  // per object the box its ROI scales are of: its ROI, or its focus
+    bool domain_focused_ = false;       // SegmentOptions::graph_focus
     std::vector<uint32_t> graph_domain_;  // the domain graph_ was built over, and with which options
     GraphOptions graph_built_with_;
     std::optional<DomainNodes> nodes_;    // graph_'s nodes, made once per graph

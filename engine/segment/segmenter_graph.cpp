@@ -151,18 +151,18 @@ void mark_rois(const std::vector<std::vector<uint32_t>>& rois, GraphDomain& d) {
     d.in_roi = d.in_base_roi;
 }
 
-// The domain's Gaussians: every one within an ROI column scaled by `reach` (the largest ROI
-// scale) and widened by the margin. Between the ROI and the margin lies the background's
+// The domain's Gaussians: every one within a box's column scaled by `reach` (the largest ROI
+// scale) and widened by the margin. Between the boxes and the margin lies the background's
 // evidence of last resort: the object-scale rule's ROI. Unordered (graph_domain orders them).
 std::vector<uint32_t> domain_gaussians(const data::GaussianCloud& cloud, const ColumnIndex& columns,
-                                       const std::vector<ObjectResult*>& objects, double margin, double reach) {
+                                       const std::vector<RoiBox>& boxes, double margin, double reach) {
     std::vector<uint32_t> domain;
     std::vector<uint8_t> taken(cloud.size(), 0);
     const double factor = reach * (1 + 2 * margin);
-    // Each object's column from the index's candidates.
-    for (auto* obj : objects)
-        for (uint32_t i : columns.candidates(obj->roi.centre, factor * obj->roi.length / 2, factor * obj->roi.width / 2, false))
-            if (!taken[i] && in_column(obj->roi, glm::dvec3(cloud.mean[i]), factor)) {
+    // Each box's column from the index's candidates.
+    for (const RoiBox& box : boxes)
+        for (uint32_t i : columns.candidates(box.centre, factor * box.length / 2, factor * box.width / 2, false))
+            if (!taken[i] && in_column(box, glm::dvec3(cloud.mean[i]), factor)) {
                 taken[i] = 1;
                 domain.push_back(i);
             }
@@ -179,16 +179,69 @@ GraphDomain graph_domain(const data::GaussianCloud& cloud, std::vector<uint32_t>
     return d;
 }
 
-// The nodes inside the objects' ROIs scaled by `factor` (scale 1: the ROIs as the encoder took them).
-void scale_rois(const data::GaussianCloud& cloud, const std::vector<ObjectResult*>& objects, double factor,
-                GraphDomain& d) {
+// The nodes inside the boxes scaled by `factor` (scale 1: the ROIs as the encoder took them).
+void scale_rois(const data::GaussianCloud& cloud, const std::vector<RoiBox>& boxes, double factor, GraphDomain& d) {
     d.in_roi = d.in_base_roi;
     if (factor == 1.0) return;
     for (size_t i = 0; i < d.domain.size(); ++i) {
         const glm::dvec3 mu(cloud.mean[d.domain[i]]);
-        const bool inside = std::any_of(objects.begin(), objects.end(), [&](auto* obj) { return in_column(obj->roi, mu, factor); });
+        const bool inside = std::any_of(boxes.begin(), boxes.end(), [&](const RoiBox& box) { return in_column(box, mu, factor); });
         d.in_roi[i] = factor > 1.0 ? d.in_base_roi[i] || inside : d.in_base_roi[i] && inside;
     }
+}
+
+// Per object, the box of its coarse support (`points`: where the coarse walk gives it at least
+// SegmentOptions::graph_focus_support, or its coarse label) in its ROI's axes: from the `tail` to
+// the 1 - `tail` quantile along each (a stray floater does not stretch it), holding the object's
+// positive clicks, grown by `grow` of its extent per side and kept within the ROI column scaled
+// by `reach`. An object with no support keeps its ROI.
+std::vector<RoiBox> answer_boxes(const std::vector<ObjectResult*>& objects, const std::vector<std::vector<glm::vec3>>& points,
+                                 double tail, double grow, double reach) {
+    const size_t m = objects.size();
+    std::vector<std::vector<double>> along(m), across(m);
+    for (size_t j = 0; j < m; ++j)
+        for (const glm::vec3& p : points[j]) {
+            const RoiBox& r = objects[j]->roi;
+            const glm::dvec3 rel = glm::dvec3(p) - r.centre;
+            along[j].push_back(glm::dot(rel, r.length_axis));
+            across[j].push_back(glm::dot(rel, r.width_axis));
+        }
+    auto quantile = [](std::vector<double>& v, double q) {
+        auto it = v.begin() + std::ptrdiff_t(std::min(v.size() - 1, size_t(q * double(v.size()))));
+        std::nth_element(v.begin(), it, v.end());
+        return *it;
+    };
+    std::vector<RoiBox> boxes(m);
+    for (size_t j = 0; j < m; ++j) {
+        const RoiBox& r = objects[j]->roi;
+        boxes[j] = r;
+        if (along[j].empty()) continue;
+        double l0 = quantile(along[j], tail), l1 = quantile(along[j], 1 - tail);
+        double w0 = quantile(across[j], tail), w1 = quantile(across[j], 1 - tail);
+        for (const Anchor& a : objects[j]->anchors)
+            if (a.positive && a.gaussian >= 0) {
+                const double u = glm::dot(a.position - r.centre, r.length_axis), v = glm::dot(a.position - r.centre, r.width_axis);
+                l0 = std::min(l0, u), l1 = std::max(l1, u), w0 = std::min(w0, v), w1 = std::max(w1, v);
+            }
+        const double gl = grow * (l1 - l0), gw = grow * (w1 - w0);
+        const double half_l = reach * r.length / 2, half_w = reach * r.width / 2;
+        l0 = std::max(l0 - gl, -half_l), l1 = std::min(l1 + gl, half_l);
+        w0 = std::max(w0 - gw, -half_w), w1 = std::min(w1 + gw, half_w);
+        boxes[j].centre = r.centre + 0.5 * (l0 + l1) * r.length_axis + 0.5 * (w0 + w1) * r.width_axis;
+        boxes[j].length = std::max(l1 - l0, 1e-9);
+        boxes[j].width = std::max(w1 - w0, 1e-9);
+    }
+    return boxes;
+}
+
+// The nodes inside the boxes (scale 1): the ROIs of a focused domain.
+void mark_boxes(const data::GaussianCloud& cloud, const std::vector<RoiBox>& boxes, GraphDomain& d) {
+    d.in_base_roi.assign(d.domain.size(), 0);
+    for (size_t i = 0; i < d.domain.size(); ++i)
+        d.in_base_roi[i] = std::any_of(boxes.begin(), boxes.end(), [&](const RoiBox& box) {
+            return in_column(box, glm::dvec3(cloud.mean[d.domain[i]]), 1.0);
+        });
+    d.in_roi = d.in_base_roi;
 }
 
 // The ROI scales, largest first (at least one).
@@ -251,7 +304,7 @@ NodeLabels walk_then_forest(SeededForest& forest, const KnnGraph& graph, std::ve
 
 Segmenter::CoarseSolve Segmenter::coarse_solve(const SegmentOptions& o, const std::vector<uint32_t>& domain,
                                                const WalkProblem& fine, bool spread_clicks, bool scene_order,
-                                               bool walk) {
+                                               bool walk, bool carry) {
     // The same problem on every coarse_stride-th node (and every object's click): a graph
     // with fewer hops across, solved in a fraction of the fine solve's iterations.
     // `scene_order`: every stride-th in scene order; else in the nodes' Morton order, a uniform
@@ -300,6 +353,7 @@ Segmenter::CoarseSolve Segmenter::coarse_solve(const SegmentOptions& o, const st
     }
     if (walk) cs.walk = walker_.solve(coarse_graph_, cp, cs.x, o.walk);
     cs.problem = std::move(cp);
+    if (!carry) return cs;
     // Each fine node's nearest coarse node.
     std::vector<glm::vec3> positions(m);
     for (uint32_t c = 0; c < m; ++c) positions[c] = cloud_.mean[coarse_domain[c]];
@@ -337,17 +391,32 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     // The domain follows from the objects' ROI boxes and the options alone: a further click on
     // the same objects (the ROI comes from each object's first positive click) takes the last
     // one as it is (6 M tiled guitar: about 0.1 s a click of gathering and numbering).
-    std::vector<double> key{double(objects.size()), margin, double(capacity), double(budget)};
+    // A focused domain also follows from what makes the coarse answer.
+    const GraphOptions& go = o.graph_options;
+    std::vector<double> key{double(objects.size()), margin, double(capacity), double(budget), double(o.graph_focus),
+                            o.graph_focus_grow, double(o.coarse_stride), double(int(o.solver)), o.walk_sure,
+                            double(o.walk.tolerance), double(int(o.walk.preconditioner)), double(go.k), go.cell,
+                            double(go.shells), go.colour, go.normal, go.distance, go.opacity};
     key.insert(key.end(), scales.begin(), scales.end());
     for (const auto* obj : objects) {
         const RoiBox& r = obj->roi;
         for (const glm::dvec3& v : {r.centre, r.length_axis, r.width_axis}) key.insert(key.end(), {v.x, v.y, v.z});
         key.insert(key.end(), {r.length, r.width});
     }
-    if (key != domain_key_) {
+    // A focused domain holds each object's answer as the coarse solve found it: a positive click
+    // outside it asks for a new one.
+    bool clicks_inside = true;
+    if (!domain_key_.empty() && domain_focused_)
+        for (size_t j = 0; j < objects.size() && j < domain_boxes_.size(); ++j)
+            for (const Anchor& a : objects[j]->anchors)
+                if (a.positive && a.gaussian >= 0 && !in_column(domain_boxes_[j], a.position, 1.0)) clicks_inside = false;
+    bool coarse_given = false;  // the focus handed on_coarse its answer
+    if (key != domain_key_ || !clicks_inside) {
         domain_key_.clear();
         const ColumnIndex& index = columns(objects.front()->roi);
-        auto gaussians = [&] { return domain_gaussians(cloud_, index, objects, margin, std::max(scales.front(), 1.0)); };
+        std::vector<RoiBox> boxes;
+        for (const auto* obj : objects) boxes.push_back(obj->roi);
+        auto gaussians = [&] { return domain_gaussians(cloud_, index, boxes, margin, std::max(scales.front(), 1.0)); };
         std::vector<uint32_t> in_domain = gaussians();
         // Past the graph's limit or the click's budget, the margin narrows first (it costs least),
         // then the larger scales go: every node of a smaller domain beats every n-th node of a larger
@@ -362,6 +431,37 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
             in_domain = gaussians();
         }
         domain_ = graph_domain(cloud_, std::move(in_domain), rois);
+        domain_focused_ = false;
+        // Past graph_focus nodes the click's cost would follow the scene: the coarse answer over
+        // this domain (at its largest ROI scale) bounds each object, and the fine graph covers the
+        // objects' answer boxes and the same margin around them, seeded as background.
+        if (o.graph_focus && domain_.domain.size() > o.graph_focus && domain_.domain.size() <= capacity &&
+            coarse_allowed(o, domain_.domain.size())) {
+            t0 = Clock::now();
+            const double reach = std::max(scales.front(), 1.0);
+            scale_rois(cloud_, boxes, reach, domain_);
+            // The coarse answer carried to every node only for a viewer that shows it.
+            const bool shown = o.on_coarse && o.graph == GraphUse::Alone;
+            std::vector<std::vector<glm::vec3>> support;
+            const auto [label, confidence] = coarse_labels(o, objects, domain_, &support, shown);
+            if (shown) {
+                coarse_answer(o, objects, domain_.domain, label, confidence, result);
+                coarse_given = true;
+            }
+            std::vector<RoiBox> focus = answer_boxes(objects, support, 0.01, o.graph_focus_grow, reach);
+            std::vector<uint32_t> focused = domain_gaussians(cloud_, index, focus, margin, 1.0);
+            if (focused.size() * 4 < domain_.domain.size() * 3) {
+                domain_ = graph_domain(cloud_, std::move(focused), rois);
+                mark_boxes(cloud_, focus, domain_);
+                boxes = std::move(focus);
+                scales = {1.0};
+                domain_focused_ = true;
+            } else {
+                domain_.in_roi = domain_.in_base_roi;
+            }
+            result.stage_ms["graph focus"] += ms_since(t0);
+        }
+        domain_boxes_ = std::move(boxes);
         domain_margin_ = margin;
         domain_scales_ = scales;
         domain_key_ = std::move(key);
@@ -379,7 +479,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     const bool rebuild = d.domain != graph_domain_ || !(o.graph_options == graph_built_with_);
     // A cold solve's coarse answer, if wanted, comes first (then not again in solve_walk).
     SegmentOptions rest = o;
-    if (rebuild && early_coarse_answer(o, objects, d, result)) rest.on_coarse = nullptr;
+    if (coarse_given || (rebuild && early_coarse_answer(o, objects, d, result))) rest.on_coarse = nullptr;
     stop_if_cancelled(o.cancel);
     t0 = Clock::now();
     if (rebuild) {
@@ -420,7 +520,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     auto solve_at = [&](double scale, bool prior) {
         stop_if_cancelled(o.cancel);
         t0 = Clock::now();
-        scale_rois(cloud_, objects, scale, d);
+        scale_rois(cloud_, domain_boxes_, scale, d);
         WalkProblem pr = margin_problem(d, objects.size());
         seed_clicks(objects, d, &nbr, *nodes_, graph_.cell_side(), pr);
         if (prior) network_prior(o, objects, rois, probabilities, d, &graph_.host_adjacency().degree, pr);
@@ -452,7 +552,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
             obj.scale_answers.emplace_back(scales[f], contrast[j + 1], obj.claims.size());
             if (fits) {
                 size_t outside = 0;
-                for (auto [g, p] : obj.claims) outside += !in_column(obj.roi, glm::dvec3(cloud_.mean[g]), scales[f + 1]);
+                for (auto [g, p] : obj.claims) outside += !in_column(domain_boxes_[j], glm::dvec3(cloud_.mean[g]), scales[f + 1]);
                 fits = outside * 100 <= obj.claims.size();
             }
             if (obj.claims.empty()) continue;  // no answer never wins
@@ -483,7 +583,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         objects[j]->claims = std::move(best[j]);
         objects[j]->boundary_contrast = best_contrast[j];
     }
-    if (result.graph) result.graph->domain = d.domain.size(), result.graph->margin = margin;
+    if (result.graph) result.graph->domain = d.domain.size(), result.graph->margin = margin, result.graph->focused = domain_focused_;
 }
 
 void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
@@ -669,32 +769,50 @@ void Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const Gra
     for (auto [i, label] : clicks) pr.seed[i] = label;
 }
 
-bool Segmenter::early_coarse_answer(const SegmentOptions& o, const std::vector<ObjectResult*>& objects,
-                                    const GraphDomain& d, SegmentResult& result) {
-    // Before the fine graph (most of a cold click's wait): the coarse answer from the seeds that
-    // need no fine graph, each click's nearest node and the margin. The network's prior needs the
-    // fine graph's degrees, so ptv3+graph answers after it, in solve_walk.
+bool Segmenter::coarse_allowed(const SegmentOptions& o, size_t nodes) {
+    return o.solver != GraphSolver::Forest && o.coarse_stride >= 2 && nodes >= 64 * o.coarse_stride;
+}
+
+std::pair<std::vector<int32_t>, std::vector<float>> Segmenter::coarse_labels(const SegmentOptions& o,
+                                                                             const std::vector<ObjectResult*>& objects,
+                                                                             const GraphDomain& d,
+                                                                             std::vector<std::vector<glm::vec3>>* support,
+                                                                             bool carry) {
+    // The seeds that need no fine graph, each click's nearest node and the margin; the full
+    // solve's rule on the coarse graph (walk, and forest where the walk is unsure), carried to
+    // every node by its nearest coarse node. The coarse nodes are every n-th in Morton order, a
+    // uniform spatial subsample: thin parts keep their nodes (every n-th in scene order broke the
+    // real guitar's stand into pieces the guitar took: 3D IoU 51 / 17 % against 94 / 51 % so).
     const uint32_t nodes = uint32_t(d.domain.size());
-    if (!o.on_coarse || o.graph != GraphUse::Alone || o.solver == GraphSolver::Forest || o.coarse_stride < 2 ||
-        nodes < 64 * o.coarse_stride)
-        return false;
-    auto t0 = Clock::now();
     WalkProblem early = margin_problem(d, objects.size());
     seed_clicks(objects, d, nullptr, DomainNodes(cloud_, d, false), node_cell(d), early);
-    // The full solve's rule on the coarse graph (walk, and forest where the walk is unsure),
-    // carried to every node by its nearest coarse node. The coarse nodes are every n-th in
-    // Morton order, a uniform spatial subsample: thin parts keep their nodes (every n-th in scene
-    // order broke the real guitar's stand into pieces the guitar took: 3D IoU 51 / 17 % against
-    // 94 / 51 % so).
-    const CoarseSolve cs = coarse_solve(o, d.domain, early, true, false);
+    const CoarseSolve cs = coarse_solve(o, d.domain, early, true, false, true, carry);
     const WalkLabels w = cs.x.most_likely(nullptr);
     NodeLabels coarse{w.arg, w.share, 0};
     if (o.solver == GraphSolver::WalkForest)
         coarse = walk_then_forest(forest_, coarse_graph_, cs.problem.seed, w, o.walk_sure, o.forest);
-    std::vector<int32_t> label(nodes, -1);
-    std::vector<float> confidence(nodes, 0.0f);
+    if (support) {
+        support->assign(objects.size(), {});
+        for (uint32_t c = 0; c < uint32_t(cs.members.size()); ++c)
+            for (uint32_t l = 1; l < cs.x.labels(); ++l)
+                if (coarse.label[c] == int32_t(l) || cs.x.at(c, l) >= o.graph_focus_support)
+                    (*support)[l - 1].push_back(cloud_.mean[d.domain[cs.members[c]]]);
+    }
+    std::pair<std::vector<int32_t>, std::vector<float>> out;
+    if (!carry) return out;
+    out = {std::vector<int32_t>(nodes, -1), std::vector<float>(nodes, 0.0f)};
     for (uint32_t i = 0; i < nodes; ++i)
-        if (const uint32_t c = cs.nearest[i]; c != kNoCoarse) label[i] = coarse.label[c], confidence[i] = coarse.confidence[c];
+        if (const uint32_t c = cs.nearest[i]; c != kNoCoarse) out.first[i] = coarse.label[c], out.second[i] = coarse.confidence[c];
+    return out;
+}
+
+bool Segmenter::early_coarse_answer(const SegmentOptions& o, const std::vector<ObjectResult*>& objects,
+                                    const GraphDomain& d, SegmentResult& result) {
+    // Before the fine graph (most of a cold click's wait). The network's prior needs the fine
+    // graph's degrees, so ptv3+graph answers after it, in solve_walk.
+    if (!o.on_coarse || o.graph != GraphUse::Alone || !coarse_allowed(o, d.domain.size())) return false;
+    auto t0 = Clock::now();
+    const auto [label, confidence] = coarse_labels(o, objects, d);
     result.stage_ms["graph coarse answer"] += ms_since(t0);
     coarse_answer(o, objects, d.domain, label, confidence, result);
     return true;

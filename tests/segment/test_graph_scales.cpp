@@ -31,6 +31,100 @@ seg::HostAdjacency adjacency(uint32_t nodes, const std::vector<std::tuple<uint32
     return a;
 }
 
+// An orange rod 1.2 long held 0.05 above a grey floor 5 x 3 (y down), and which Gaussians are rod.
+std::pair<ref::TestScene, std::vector<int32_t>> rod_scene() {
+    ref::TestScene s;
+    std::vector<int32_t> truth;
+    ref::Rng rng(5);
+    for (int i = 0; i < 6000; ++i) {
+        // The rod's surface: a box 1.2 x 0.15 x 0.15 (y down).
+        const int face = int(rng.below(4));
+        const float x = rng.uniform(-0.6f, 0.6f), t = rng.uniform(-0.075f, 0.075f);
+        glm::vec3 p = face == 0 ? glm::vec3(x, -0.2f, t) : face == 1 ? glm::vec3(x, -0.125f + t, -0.075f)
+                    : face == 2 ? glm::vec3(x, -0.125f + t, 0.075f) : glm::vec3(x, -0.05f, t);
+        // Flat along the face's normal, as a trained scene's surface Gaussians are.
+        const glm::vec3 scale = face == 1 || face == 2 ? glm::vec3(0.01f, 0.01f, 0.001f) : glm::vec3(0.01f, 0.001f, 0.01f);
+        ref::add_gaussian(s.cloud, p, glm::log(scale), glm::vec4(1, 0, 0, 0), 4.0f, ref::dc_from_rgb({0.9f, 0.5f, 0.1f}));
+        truth.push_back(1);
+    }
+    for (int i = 0; i < 12000; ++i) {
+        ref::add_gaussian(s.cloud, glm::vec3(rng.uniform(-2.5f, 2.5f), 0.01f, rng.uniform(-1.5f, 1.5f)),
+                          glm::vec3(std::log(0.03f), std::log(0.003f), std::log(0.03f)), glm::vec4(1, 0, 0, 0), 4.0f,
+                          ref::dc_from_rgb(glm::vec3(0.5f)));
+        truth.push_back(0);
+    }
+    s.cameras.push_back(ref::look_at_camera("front", {0, -1.5, -4}, {0, 0, 0}, {0, -1, 0}, 160, 120, 150, 150, 80, 60));
+    return {std::move(s), std::move(truth)};
+}
+
+// The rod's options: ROI columns 1.25 wide about the click, about half the rod.
+seg::SegmentOptions rod_options() {
+    seg::SegmentOptions o;
+    o.up = {0, -1, 0};
+    o.scale = 0.5;
+    o.graph = seg::GraphUse::Alone;
+    return o;
+}
+
+// One click on the rod, 0.1 from its end.
+data::Prompts rod_click() {
+    data::Prompts p;
+    data::PromptClick click;
+    click.point = glm::dvec3(-0.5, -0.2, 0.0);
+    p.objects.push_back({"rod", 1, {click}});
+    return p;
+}
+
+double rod_iou(const seg::SegmentResult& r, const std::vector<int32_t>& truth) {
+    size_t inter = 0, uni = 0;
+    for (size_t i = 0; i < truth.size(); ++i) {
+        inter += r.labels[i] == 1 && truth[i] == 1;
+        uni += r.labels[i] == 1 || truth[i] == 1;
+    }
+    return double(inter) / double(uni);
+}
+
+// The bundled sample with its objects' first clicks (the first `objects` of them, 0: all) and
+// its true instances.
+struct Sample {
+    data::GaussianCloud cloud;
+    std::vector<data::Camera> cameras;
+    data::Prompts prompts;
+    std::vector<int32_t> truth;
+    explicit Sample(size_t objects = 0) {
+        const auto dir = test::source_dir() / "assets" / "sample" / "desk_000";
+        cloud = data::load_scene(dir / "scene.ply");
+        cameras = data::load_cameras(dir / "cameras.json");
+        prompts = data::read_prompts(dir / "prompts.json");
+        REQUIRE(prompts.objects.size() >= objects);
+        if (objects) prompts.objects.resize(objects);
+        for (auto& obj : prompts.objects) obj.clicks.resize(1);
+        const auto instance = cloud.int_property("instance");
+        REQUIRE(instance);
+        truth = *instance;
+    }
+    // The graph alone, up from the cameras.
+    seg::SegmentOptions options() const {
+        seg::SegmentOptions o;
+        o.up = data::up_from_cameras(cameras);
+        o.graph = seg::GraphUse::Alone;
+        return o;
+    }
+    // The clicked objects' mean 3D IoU.
+    double mean_iou(const seg::SegmentResult& r) const {
+        double sum = 0;
+        for (auto& obj : prompts.objects) {
+            size_t inter = 0, uni = 0;
+            for (size_t i = 0; i < r.labels.size(); ++i) {
+                const bool a = r.labels[i] == obj.id, b = truth[i] == obj.id;
+                inter += a && b, uni += a || b;
+            }
+            sum += uni ? double(inter) / double(uni) : 0.0;
+        }
+        return sum / double(prompts.objects.size());
+    }
+};
+
 }  // namespace
 
 TEST_CASE("boundary contrast: a cut along a weak edge scores its weakness, one through an even chain scores 1") {
@@ -62,46 +156,13 @@ TEST_CASE("graph decoder: a rod longer than its click's ROI comes out whole at t
     // (1.25 wide about the click) ends halfway along the rod: the margin's background seeds lie
     // on it and cut it through strong edges. At scale 2 the ROI holds the rod and its boundary
     // is the gap between rod and floor, far weaker: that answer stands.
-    ref::TestScene s;
-    std::vector<int32_t> truth;
-    ref::Rng rng(5);
-    for (int i = 0; i < 6000; ++i) {
-        // The rod's surface: a box 1.2 x 0.15 x 0.15 (y down).
-        const int face = int(rng.below(4));
-        const float x = rng.uniform(-0.6f, 0.6f), t = rng.uniform(-0.075f, 0.075f);
-        glm::vec3 p = face == 0 ? glm::vec3(x, -0.2f, t) : face == 1 ? glm::vec3(x, -0.125f + t, -0.075f)
-                    : face == 2 ? glm::vec3(x, -0.125f + t, 0.075f) : glm::vec3(x, -0.05f, t);
-        // Flat along the face's normal, as a trained scene's surface Gaussians are.
-        const glm::vec3 scale = face == 1 || face == 2 ? glm::vec3(0.01f, 0.01f, 0.001f) : glm::vec3(0.01f, 0.001f, 0.01f);
-        ref::add_gaussian(s.cloud, p, glm::log(scale), glm::vec4(1, 0, 0, 0), 4.0f, ref::dc_from_rgb({0.9f, 0.5f, 0.1f}));
-        truth.push_back(1);
-    }
-    for (int i = 0; i < 12000; ++i) {
-        ref::add_gaussian(s.cloud, glm::vec3(rng.uniform(-2.5f, 2.5f), 0.01f, rng.uniform(-1.5f, 1.5f)),
-                          glm::vec3(std::log(0.03f), std::log(0.003f), std::log(0.03f)), glm::vec4(1, 0, 0, 0), 4.0f,
-                          ref::dc_from_rgb(glm::vec3(0.5f)));
-        truth.push_back(0);
-    }
-    s.cameras.push_back(ref::look_at_camera("front", {0, -1.5, -4}, {0, 0, 0}, {0, -1, 0}, 160, 120, 150, 150, 80, 60));
+    auto [s, truth] = rod_scene();
     auto& ctx = test::gpu();
     render::GpuScene gpu(ctx, s.cloud);
     seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras);
-    seg::SegmentOptions o;
-    o.up = {0, -1, 0};
-    o.scale = 0.5;  // ROI columns 1.25 wide about the click
-    o.graph = seg::GraphUse::Alone;
-    data::Prompts p;
-    data::PromptClick click;
-    click.point = glm::dvec3(-0.5, -0.2, 0.0);
-    p.objects.push_back({"rod", 1, {click}});
-    auto rod_iou = [&](const seg::SegmentResult& r) {
-        size_t inter = 0, uni = 0;
-        for (size_t i = 0; i < truth.size(); ++i) {
-            inter += r.labels[i] == 1 && truth[i] == 1;
-            uni += r.labels[i] == 1 || truth[i] == 1;
-        }
-        return double(inter) / double(uni);
-    };
+    seg::SegmentOptions o = rod_options();
+    data::Prompts p = rod_click();
+    auto rod_iou = [&](const seg::SegmentResult& r) { return ::rod_iou(r, truth); };
     o.graph_scales = {1.0};
     const auto cut = segmenter.segment(p, o);
     REQUIRE(cut.failed() == 0);
@@ -168,31 +229,12 @@ TEST_CASE("graph decoder: the budget's narrow margin answers the sample as well 
     // on the seeds next to it, not on how far the ring reaches: a ring a fifth as wide answers the
     // sample's ten first clicks as well (the graph's grid cell follows the domain's spacing, so a
     // near tie may still flip: not the same labels, the same quality).
-    const auto dir = test::source_dir() / "assets" / "sample" / "desk_000";
-    const auto cloud = data::load_scene(dir / "scene.ply");
-    const auto cameras = data::load_cameras(dir / "cameras.json");
-    auto prompts = data::read_prompts(dir / "prompts.json");
-    for (auto& obj : prompts.objects) obj.clicks.resize(1);
-    const auto truth = cloud.int_property("instance");
-    REQUIRE(truth);
+    const Sample sample;
     auto& ctx = test::gpu();
-    render::GpuScene gpu(ctx, cloud);
-    seg::Segmenter segmenter(ctx, cloud, gpu, cameras);
-    seg::SegmentOptions o;
-    o.up = data::up_from_cameras(cameras);
-    o.graph = seg::GraphUse::Alone;
-    auto mean_iou = [&](const seg::SegmentResult& r) {
-        double sum = 0;
-        for (auto& obj : prompts.objects) {
-            size_t inter = 0, uni = 0;
-            for (size_t i = 0; i < r.labels.size(); ++i) {
-                const bool a = r.labels[i] == obj.id, b = (*truth)[i] == obj.id;
-                inter += a && b, uni += a || b;
-            }
-            sum += uni ? double(inter) / double(uni) : 0.0;
-        }
-        return sum / double(prompts.objects.size());
-    };
+    render::GpuScene gpu(ctx, sample.cloud);
+    seg::Segmenter segmenter(ctx, sample.cloud, gpu, sample.cameras);
+    seg::SegmentOptions o = sample.options();
+    const auto& prompts = sample.prompts;
     o.graph_margin = seg::kNarrowMargin;
     const auto thin = segmenter.segment(prompts, o);
     o.graph_margin = 0.5;
@@ -202,8 +244,69 @@ TEST_CASE("graph decoder: the budget's narrow margin answers the sample as well 
     REQUIRE(thin.graph);
     REQUIRE(wide.graph);
     CHECK(thin.graph->domain <= wide.graph->domain);
-    const double a = mean_iou(thin), b = mean_iou(wide);
+    const double a = sample.mean_iou(thin), b = sample.mean_iou(wide);
     INFO("mean 3D IoU, margin 0.1: " << a << ", 0.5: " << b);
     CHECK(b > 0.85);
+    CHECK(a >= b - 0.02);
+}
+
+TEST_CASE("graph decoder: past graph_focus the fine graph covers the objects' coarse answers: a rod longer than its ROI stays whole, the sample as well answered, a click outside the focus focuses again") {
+    auto [s, truth] = rod_scene();
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, s.cloud);
+    seg::SegmentOptions o = rod_options();
+    data::Prompts p = rod_click();
+    auto rod_iou = [&](const seg::SegmentResult& r) { return ::rod_iou(r, truth); };
+    seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras);
+    const auto whole = segmenter.segment(p, o);
+    REQUIRE(whole.graph);
+    CHECK_FALSE(whole.graph->focused);  // 17 k nodes: below the default
+    o.graph_focus = 1000;
+    const auto focused = segmenter.segment(p, o);
+    REQUIRE(focused.failed() == 0);
+    REQUIRE(focused.graph);
+    CHECK(focused.graph->focused);
+    // The coarse support at scale 2 holds the rod, and its box (grown a quarter per side) with the
+    // margin is a strip of the floor: far fewer nodes, the rod still whole.
+    CHECK(double(focused.graph->domain) < 0.5 * double(whole.graph->domain));
+    CHECK(focused.graph->margin == whole.graph->margin);
+    CHECK(rod_iou(focused) > 0.95);
+    // A further positive click outside the focus (on the floor, 0.8 beside the rod, within its ROI at 2) is not
+    // dropped: the domain is focused again around both answers, as a new segmenter's is.
+    data::Prompts further = p;
+    data::PromptClick floor_click;
+    floor_click.point = glm::dvec3(-1.5, 0.01, 0.8);
+    further.objects[0].clicks.push_back(floor_click);
+    const auto again = segmenter.segment(further, o);
+    seg::Segmenter fresh(ctx, s.cloud, gpu, s.cameras);
+    const auto want = fresh.segment(further, o);
+    REQUIRE(again.graph);
+    REQUIRE(want.graph);
+    CHECK(again.graph->domain == want.graph->domain);
+    CHECK(again.graph->domain > focused.graph->domain);
+    CHECK(again.labels == want.labels);
+    size_t floor_labelled = 0;
+    for (size_t i = 0; i < truth.size(); ++i) floor_labelled += truth[i] == 0 && again.labels[i] == 1;
+    CHECK(floor_labelled > 0);  // the floor's click took its part of the floor
+
+    // The sample's first three objects from their first clicks (the ten together fill the desk):
+    // as well answered on the focused domain as on the whole one.
+    const Sample three(3);
+    render::GpuScene sample_gpu(ctx, three.cloud);
+    seg::Segmenter sample(ctx, three.cloud, sample_gpu, three.cameras);
+    seg::SegmentOptions so = three.options();
+    const auto& prompts = three.prompts;
+    const auto all = sample.segment(prompts, so);
+    so.graph_focus = 1000;
+    const auto narrow = sample.segment(prompts, so);
+    REQUIRE(all.failed() == 0);
+    REQUIRE(narrow.failed() == 0);
+    REQUIRE(narrow.graph);
+    CHECK(narrow.graph->focused);
+    CHECK(narrow.graph->domain < all.graph->domain);
+    const double a = three.mean_iou(narrow), b = three.mean_iou(all);
+    INFO("mean 3D IoU, focused: " << a << ", whole domain: " << b << "; nodes " << narrow.graph->domain << " of "
+                                  << all.graph->domain);
+    CHECK(b > 0.65);  // three of ten objects clicked: the others are nobody's
     CHECK(a >= b - 0.02);
 }
