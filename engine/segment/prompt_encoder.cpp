@@ -169,4 +169,10 @@ EncodedPrompt PromptEncoder::encode(const render::GpuScene& scene, const std::ve
     return out;
 }
 
+bool in_column(const RoiBox& r, const glm::dvec3& p, double factor) {
+    const glm::dvec3 rel = p - r.centre;
+    return std::abs(glm::dot(rel, r.length_axis)) <= factor * r.length / 2 &&
+           std::abs(glm::dot(rel, r.width_axis)) <= factor * r.width / 2;
+}
+
 }  // namespace pg::seg

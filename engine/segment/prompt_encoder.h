@@ -45,6 +45,9 @@ struct RoiBox {
     double length = 1.0, width = 1.0;  // full extents along the two horizontal axes
 };
 
+// Whether `p` lies in the ROI's column scaled by `factor` about its centre (any height).
+bool in_column(const RoiBox& r, const glm::dvec3& p, double factor = 1.0);
+
 // The ROI's Gaussians (ascending indices) and their click weights (positive, negative).
 struct EncodedPrompt {
     std::vector<uint32_t> indices;

@@ -144,7 +144,15 @@ void Segmenter::prepare(const data::ObjectPrompt& prompt, size_t index, const st
 
     t0 = Clock::now();
     const auto candidates = columns(obj.roi).candidates(obj.roi.centre, obj.roi.length / 2, obj.roi.width / 2);
-    EncodedPrompt encoded = encoder_.encode(scene_, obj.anchors, obj.sigma, obj.roi, &candidates);
+    EncodedPrompt encoded;
+    if (o.graph == GraphUse::Alone) {
+        // The graph alone reads which Gaussians the ROI holds, never the click weights: the column
+        // test on the host (a streamed scene's GPU pass gathers and uploads every candidate).
+        for (uint32_t g : candidates)
+            if (in_column(obj.roi, glm::dvec3(cloud_.mean[g]))) encoded.indices.push_back(g);
+    } else {
+        encoded = encoder_.encode(scene_, obj.anchors, obj.sigma, obj.roi, &candidates);
+    }
     result.stage_ms["encode + roi"] += ms_since(t0);
     obj.roi_gaussians = encoded.indices.size();
     if (encoded.indices.empty())

@@ -108,13 +108,6 @@ float node_cell(const GraphDomain& d) {
     return std::cbrt(4.0f * size.x * size.y * size.z / float(d.domain.size()));
 }
 
-// Whether `p` lies in an ROI column scaled by `factor` about its centre.
-bool in_column(const RoiBox& r, const glm::dvec3& p, double factor) {
-    const glm::dvec3 rel = p - r.centre;
-    return std::abs(glm::dot(rel, r.length_axis)) <= factor * r.length / 2 &&
-           std::abs(glm::dot(rel, r.width_axis)) <= factor * r.width / 2;
-}
-
 // Numbers the domain's nodes in Morton order of their position: a node's neighbours get nearby
 // numbers, so the passes' gathers stay in cache and a SIMD group's nodes share cells and row
 // lengths. Fills node_of (sized to the cloud, -1 outside) and the bounding box.
