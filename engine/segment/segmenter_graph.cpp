@@ -172,13 +172,17 @@ GraphDomain graph_domain(const data::GaussianCloud& cloud, std::vector<uint32_t>
     return d;
 }
 
+// Whether `p` lies in any of the boxes' columns scaled by `factor`.
+bool in_columns(const std::vector<RoiBox>& boxes, const glm::dvec3& p, double factor) {
+    return std::any_of(boxes.begin(), boxes.end(), [&](const RoiBox& box) { return in_column(box, p, factor); });
+}
+
 // The nodes inside the boxes scaled by `factor` (scale 1: the ROIs as the encoder took them).
 void scale_rois(const data::GaussianCloud& cloud, const std::vector<RoiBox>& boxes, double factor, GraphDomain& d) {
     d.in_roi = d.in_base_roi;
     if (factor == 1.0) return;
     for (size_t i = 0; i < d.domain.size(); ++i) {
-        const glm::dvec3 mu(cloud.mean[d.domain[i]]);
-        const bool inside = std::any_of(boxes.begin(), boxes.end(), [&](const RoiBox& box) { return in_column(box, mu, factor); });
+        const bool inside = in_columns(boxes, glm::dvec3(cloud.mean[d.domain[i]]), factor);
         d.in_roi[i] = factor > 1.0 ? d.in_base_roi[i] || inside : d.in_base_roi[i] && inside;
     }
 }
@@ -227,14 +231,16 @@ std::vector<RoiBox> answer_boxes(const std::vector<ObjectResult*>& objects, cons
     return boxes;
 }
 
-// The nodes inside the boxes (scale 1): the ROIs of a focused domain.
-void mark_boxes(const data::GaussianCloud& cloud, const std::vector<RoiBox>& boxes, GraphDomain& d) {
-    d.in_base_roi.assign(d.domain.size(), 0);
-    for (size_t i = 0; i < d.domain.size(); ++i)
-        d.in_base_roi[i] = std::any_of(boxes.begin(), boxes.end(), [&](const RoiBox& box) {
-            return in_column(box, glm::dvec3(cloud.mean[d.domain[i]]), 1.0);
-        });
+// A focused domain over `gaussians`: numbered, its ROIs the boxes (scale 1).
+GraphDomain focused_domain(const data::GaussianCloud& cloud, std::vector<uint32_t> gaussians,
+                           const std::vector<RoiBox>& boxes) {
+    GraphDomain d;
+    d.domain = std::move(gaussians);
+    order_domain(cloud, d);
+    d.in_base_roi.resize(d.domain.size());
+    for (size_t i = 0; i < d.domain.size(); ++i) d.in_base_roi[i] = in_columns(boxes, glm::dvec3(cloud.mean[d.domain[i]]), 1.0);
     d.in_roi = d.in_base_roi;
+    return d;
 }
 
 // The ROI scales, largest first (at least one).
@@ -444,8 +450,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
             std::vector<RoiBox> focus = answer_boxes(objects, support, 0.01, o.graph_focus_grow, reach);
             std::vector<uint32_t> focused = domain_gaussians(cloud_, index, focus, margin, 1.0);
             if (focused.size() * 4 < domain_.domain.size() * 3) {
-                domain_ = graph_domain(cloud_, std::move(focused), rois);
-                mark_boxes(cloud_, focus, domain_);
+                domain_ = focused_domain(cloud_, std::move(focused), focus);
                 boxes = std::move(focus);
                 scales = {1.0};
                 domain_focused_ = true;
