@@ -77,7 +77,7 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     o.graph_focus = a.graph_focus;
     // The viewer's path: a cold solve first hands over the coarse graph's answer.
     auto t0 = std::chrono::steady_clock::now();
-    double coarse_ms = -1, new_coarse_ms = -1;
+    double coarse_ms = -1, run_coarse_ms = -1;
     double* coarse_into = &coarse_ms;  // the run being timed's
     if (a.coarse_answer)
         o.on_coarse = [&](const seg::SegmentResult&) {
@@ -114,24 +114,35 @@ void run_bench_segment(const BenchSegmentArgs& a) {
         for (auto& [k, v] : result.stage_ms) click_ms[k].push_back(v);
         click_total.push_back(total);
     }
-    // A first click once the pipelines exist: a new Segmenter (no graph, nothing to warm-start
-    // from) on the same device, what a running viewer pays for a click on a new domain.
-    // The median of `repeats` such clicks, each on its own new Segmenter.
-    std::map<std::string, std::vector<double>> new_stage_runs;
-    std::vector<double> new_runs, new_coarse_runs;
-    for (int r = 0; r < a.repeats; ++r) {
-        auto fresh = make_segmenter();
-        new_coarse_ms = -1;
-        coarse_into = &new_coarse_ms;
-        t0 = std::chrono::steady_clock::now();
-        for (auto& [k, v] : fresh->segment(one, o).stage_ms) new_stage_runs[k].push_back(v);
-        new_runs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-        if (new_coarse_ms >= 0) new_coarse_runs.push_back(new_coarse_ms);
-    }
-    std::map<std::string, double> new_stage_ms;
-    for (auto& [k, v] : new_stage_runs) new_stage_ms[k] = median(v);
-    const double new_ms = median(new_runs);
-    new_coarse_ms = new_coarse_runs.empty() ? -1 : median(new_coarse_runs);
+    // A click on new objects once the pipelines exist (the graph built, a solve from scratch), the
+    // median of `repeats`: on the same Segmenter with its domain forgotten, what a running viewer
+    // pays (the scene's column index and the clicked view's pixel bins kept), and on a new
+    // Segmenter, what a new process pays beside its pipelines.
+    struct Fresh {
+        std::map<std::string, double> stage_ms;
+        double ms = 0, coarse_ms = -1;
+    };
+    auto fresh_clicks = [&](bool new_segmenter) {
+        std::map<std::string, std::vector<double>> stage_runs;
+        std::vector<double> runs, coarse_runs;
+        for (int r = 0; r < a.repeats; ++r) {
+            std::unique_ptr<seg::Segmenter> made;
+            if (new_segmenter) made = make_segmenter();
+            else segmenter.forget_domain();
+            run_coarse_ms = -1;
+            coarse_into = &run_coarse_ms;
+            t0 = std::chrono::steady_clock::now();
+            for (auto& [k, v] : (made ? *made : segmenter).segment(one, o).stage_ms) stage_runs[k].push_back(v);
+            runs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+            if (run_coarse_ms >= 0) coarse_runs.push_back(run_coarse_ms);
+        }
+        Fresh f;
+        for (auto& [k, v] : stage_runs) f.stage_ms[k] = median(v);
+        f.ms = median(runs);
+        if (!coarse_runs.empty()) f.coarse_ms = median(coarse_runs);
+        return f;
+    };
+    const Fresh new_domain = fresh_clicks(false), new_process = fresh_clicks(true);
     seg::MaskViews masker(ctx, scene, result.labels);
     seg::MaskViewsOptions mo;
     mo.mode = seg::parse_label_mode(a.mode);
@@ -162,9 +173,11 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     if (warm_up_ms >= 0) j["warm_up_ms"] = warm_up_ms;
     for (auto& [k, v] : cold_stage_ms) j["first_click_ms"][k] = v;
     if (coarse_ms >= 0) j["first_click_coarse_answer_ms"] = coarse_ms;
-    j["new_domain_click_wall_ms"] = new_ms;
-    for (auto& [k, v] : new_stage_ms) j["new_domain_click_ms"][k] = v;
-    if (new_coarse_ms >= 0) j["new_domain_coarse_answer_ms"] = new_coarse_ms;
+    for (const auto& [key, f] : {std::pair<std::string, const Fresh&>{"new_domain", new_domain}, {"new_segmenter", new_process}}) {
+        j[key + "_click_wall_ms"] = f.ms;
+        for (auto& [k, v] : f.stage_ms) j[key + "_click_ms"][k] = v;
+        if (f.coarse_ms >= 0) j[key + "_coarse_answer_ms"] = f.coarse_ms;
+    }
     for (auto& [k, v] : view_ms) j["view_gpu_ms"][k] = median(v);
     j["view_wall_ms"] = median(view_total);
     if (a.json) {
@@ -176,11 +189,14 @@ void run_bench_segment(const BenchSegmentArgs& a) {
                 cloud.size(), result.objects.front().roi_gaussians, graph_nodes.c_str(), cam->name.c_str(), cam->width,
                 cam->height, a.repeats);
     // The first run (cold: pipelines, buffers, the graph built, a solve from scratch) beside the
-    // repeats' medians (warm: what a further click on the same objects costs) and a first click
-    // once the pipelines exist (new domain, median of the repeats: the graph built, a solve from scratch).
-    std::printf("| one click (wall ms) | repeated (median) | first | new domain |\n|---|---:|---:|---:|\n");
+    // repeats' medians (warm: what a further click on the same objects costs) and clicks on new
+    // objects once the pipelines exist (medians: the graph built, a solve from scratch), on the
+    // same Segmenter (new domain) and on a new one (new segmenter).
+    std::printf("| one click (wall ms) | repeated (median) | first | new domain | new segmenter |\n"
+                "|---|---:|---:|---:|---:|\n");
     for (auto& [k, v] : cold_stage_ms) click_ms[k];  // stages only a cold run has (a coarse start)
-    for (auto& [k, v] : new_stage_ms) click_ms[k];
+    for (const Fresh* f : {&new_domain, &new_process})
+        for (auto& [k, v] : f->stage_ms) click_ms[k];
     auto num = [](double x) {
         char b[32];
         std::snprintf(b, sizeof b, "%.2f", x);
@@ -191,12 +207,15 @@ void run_bench_segment(const BenchSegmentArgs& a) {
         return it == m.end() ? std::string("-") : num(it->second);
     };
     for (auto& [k, v] : click_ms)
-        std::printf("| %s | %s | %s | %s |\n", k.c_str(), v.empty() ? "-" : num(median(v)).c_str(),
-                    cell(cold_stage_ms, k).c_str(), cell(new_stage_ms, k).c_str());
-    if (coarse_ms >= 0 || new_coarse_ms >= 0)
-        std::printf("| coarse answer shown (viewer) | - | %.2f | %.2f |\n", coarse_ms, new_coarse_ms);
-    if (warm_up_ms >= 0) std::printf("| warm-up before the first click (--warm-up) | - | %.2f | - |\n", warm_up_ms);
-    std::printf("| **total** | %.2f | %.2f | %.2f |\n\n", median(click_total), cold_ms, new_ms);
+        std::printf("| %s | %s | %s | %s | %s |\n", k.c_str(), v.empty() ? "-" : num(median(v)).c_str(),
+                    cell(cold_stage_ms, k).c_str(), cell(new_domain.stage_ms, k).c_str(),
+                    cell(new_process.stage_ms, k).c_str());
+    if (coarse_ms >= 0 || new_domain.coarse_ms >= 0 || new_process.coarse_ms >= 0)
+        std::printf("| coarse answer shown (viewer) | - | %.2f | %.2f | %.2f |\n", coarse_ms, new_domain.coarse_ms,
+                    new_process.coarse_ms);
+    if (warm_up_ms >= 0) std::printf("| warm-up before the first click (--warm-up) | - | %.2f | - | - |\n", warm_up_ms);
+    std::printf("| **total** | %.2f | %.2f | %.2f | %.2f |\n\n", median(click_total), cold_ms, new_domain.ms,
+                new_process.ms);
     std::printf("| masks of one view (GPU ms) | median |\n|---|---:|\n");
     for (auto& [k, v] : view_ms) std::printf("| %s | %.2f |\n", k.c_str(), median(v));
     std::printf("| **wall** | %.2f |\n", median(view_total));

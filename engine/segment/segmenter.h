@@ -210,6 +210,10 @@ public:
 
     // Typical object size from the cameras: a quarter of their median distance to `target`.
     double scale_from_cameras(const glm::dvec3& target) const;
+    // The next click solves from scratch, as a click on new objects does: the graph domain, its
+    // graph and warm starts go; what follows the scene alone (the column index, the clicked
+    // views' pixel bins) stays.
+    void forget_domain();
 
 private:
     // A walk's answer kept for the next solve's start: a column per label id in `ids` (0: background).
@@ -305,6 +309,8 @@ private:
     const ColumnIndex& columns(const RoiBox& roi);
     // The most nodes one graph may hold (the device's binding, or graph_max_nodes).
     uint64_t graph_capacity(const SegmentOptions& o) const;
+    // graph_ holds no domain any more: what was made from it goes too.
+    void drop_graph();
 
     vk::Context& ctx_;
     const data::GaussianCloud& cloud_;

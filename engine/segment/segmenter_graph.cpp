@@ -481,14 +481,11 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     stop_if_cancelled(o.cancel);
     t0 = Clock::now();
     if (rebuild) {
+        drop_graph();
         graph_.build(scene_, cloud_, d.domain, o.graph_options);
         graph_domain_ = d.domain;
         graph_built_with_ = o.graph_options;
         for (const auto& t : graph_.timings()) result.stage_ms["graph build gpu"] += t.ms;
-        warm_.clear();
-        nodes_.reset();
-        roots_.clear();
-        bridges_.clear();
     }
     if (!nodes_) nodes_.emplace(cloud_, d, true);
     result.stage_ms["graph build"] += ms_since(t0);
@@ -584,6 +581,19 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     if (result.graph) result.graph->domain = d.domain.size(), result.graph->margin = margin, result.graph->focused = domain_focused_;
 }
 
+void Segmenter::drop_graph() {
+    graph_domain_.clear();
+    nodes_.reset();
+    warm_.clear();
+    roots_.clear();
+    bridges_.clear();
+}
+
+void Segmenter::forget_domain() {
+    domain_key_.clear();
+    drop_graph();
+}
+
 void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResult*>& objects,
                                 const std::vector<std::vector<uint32_t>>& rois,
                                 const std::vector<std::vector<float>>& probabilities, const GraphDomain& d,
@@ -595,11 +605,7 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
     SegmentOptions rest = o;
     if (early_coarse_answer(o, objects, d, result)) rest.on_coarse = nullptr;
     stop_if_cancelled(o.cancel);
-    graph_domain_.clear();  // graph_ does not hold this domain: the next click builds again
-    nodes_.reset();
-    warm_.clear();
-    roots_.clear();
-    bridges_.clear();
+    drop_graph();  // graph_ does not hold this domain: the next click builds again
 
     auto t0 = Clock::now();
     const uint32_t nodes = uint32_t(d.domain.size());

@@ -160,7 +160,7 @@ TEST_CASE("orbit writes cameras that see the scene, and bench prints JSON") {
     CHECK(j["peak_device_bytes"].get<double>() > 0.0);
 }
 
-TEST_CASE("bench segment times a first, a new-domain and a further click of the graph decoder") {
+TEST_CASE("bench segment times a first, a new-domain, a new-segmenter and a further click of the graph decoder") {
     auto b = run("bench segment " + sample() + "/scene.ply --cameras " + sample() + "/cameras.json --prompts " + sample() +
                  "/prompts.json --decoder graph --repeats 1 --json");
     INFO(b.out);
@@ -170,7 +170,7 @@ TEST_CASE("bench segment times a first, a new-domain and a further click of the 
     CHECK(roi > 0);
     CHECK(j["graph_domain_nodes"].get<size_t>() >= roi);
     CHECK(j["graph_domain_nodes"].get<size_t>() <= j["gaussians"].get<size_t>());
-    for (const char* column : {"first_click_ms", "new_domain_click_ms"}) {
+    for (const char* column : {"first_click_ms", "new_domain_click_ms", "new_segmenter_click_ms"}) {
         CHECK(j[column]["lift clicks"].get<double>() > 0.0);
         CHECK(j[column]["graph build"].get<double>() > 0.0);
         CHECK(j[column]["graph walk"].get<double>() > 0.0);

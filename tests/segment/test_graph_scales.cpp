@@ -285,6 +285,11 @@ TEST_CASE("graph decoder: past graph_focus the fine graph covers the objects' co
     CHECK(again.graph->domain == want.graph->domain);
     CHECK(again.graph->domain > focused.graph->domain);
     CHECK(again.labels == want.labels);
+    // A forgotten domain (bench segment's new-domain click) builds and solves from scratch, as a new segmenter does.
+    segmenter.forget_domain();
+    const auto cold = segmenter.segment(further, o);
+    CHECK(cold.stage_ms.count("graph build gpu") == 1);
+    CHECK(cold.labels == want.labels);
     size_t floor_labelled = 0;
     for (size_t i = 0; i < truth.size(); ++i) floor_labelled += truth[i] == 0 && again.labels[i] == 1;
     CHECK(floor_labelled > 0);  // the floor's click took its part of the floor
