@@ -94,14 +94,14 @@ struct SegmentOptions {
     // costs about what the ROIs at scale 1 hold (0: no budget, only graph_max_nodes).
     uint64_t graph_budget = 600000;
     // A domain of more nodes than this (within the budget) is first solved on its coarse graph
-    // (the coarse answer's rule, at its largest ROI scale); the fine graph then covers only each
-    // object's coarse support, its box grown by graph_focus_grow of its extent per side (within
-    // the ROI), and the margin the domain was taken at around that, which seeds the background
-    // (0: never). A click's cost then follows the object, not the scene around it. Above every
-    // benchmark suite's domain (116-349 k nodes): where objects fill the domain the focus is
-    // refused after its coarse solve, which the click then paid for nothing (forced on seed
-    // 8317's suites: refused on 29 of 30 scenes, 0.44-1.76 s each, the carry to every node included).
-    uint64_t graph_focus = 400000;
+    // (the coarse answer's rule on every 2 x coarse_stride-th node, at its largest ROI scale); the
+    // fine graph then covers only each object's coarse support, its box grown by graph_focus_grow
+    // of its extent per side (within the ROI), and the margin the domain was taken at around that,
+    // which seeds the background (0: never). A click's cost then follows the object, not the scene
+    // around it. Where objects fill the domain the focus is refused after its coarse solve, which
+    // the click then paid for nothing: seed 8317's residences (227-349 k nodes) refuse it on all
+    // ten scenes, 0.2-0.45 s each; forced on every suite scene, 29 of 30 refuse it.
+    uint64_t graph_focus = 200000;
     double graph_focus_grow = 0.25;
     float graph_focus_support = 0.2f;  // a coarse node is the object's where its walk reaches this
     uint32_t coarse_stride = 8;   // walk: a first solve on every n-th node starts the fine one (1: none);

@@ -434,15 +434,18 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         // Past graph_focus nodes the click's cost would follow the scene: the coarse answer over
         // this domain (at its largest ROI scale) bounds each object, and the fine graph covers the
         // objects' answer boxes and the same margin around them, seeded as background.
+        // The boxes need the coarse answer's extent, not its detail: twice the coarse stride.
+        SegmentOptions fo = o;
+        fo.coarse_stride = 2 * o.coarse_stride;
         if (o.graph_focus && domain_.domain.size() > o.graph_focus && domain_.domain.size() <= capacity &&
-            coarse_allowed(o, domain_.domain.size())) {
+            coarse_allowed(fo, domain_.domain.size())) {
             t0 = Clock::now();
             const double reach = std::max(scales.front(), 1.0);
             scale_rois(cloud_, boxes, reach, domain_);
             // The coarse answer carried to every node only for a viewer that shows it.
             const bool shown = o.on_coarse && o.graph == GraphUse::Alone;
             std::vector<std::vector<glm::vec3>> support;
-            const auto [label, confidence] = coarse_labels(o, objects, domain_, &support, shown);
+            const auto [label, confidence] = coarse_labels(fo, objects, domain_, &support, shown);
             if (shown) {
                 coarse_answer(o, objects, domain_.domain, label, confidence, result);
                 coarse_given = true;
