@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli/commands.h"
+#include "app/common/host_memory.h"
 #include "app/common/progress.h"
 #include "dataset/error.h"
 #include "dataset/formats/camera_io.h"
@@ -19,6 +20,7 @@
 #include "engine/segment/mask_views.h"
 #include "engine/segment/segmenter.h"
 #include "engine/segment/warm_up.h"
+#include "engine/vk/buffer.h"
 #include "engine/vk/context.h"
 
 namespace pg::app {
@@ -180,6 +182,9 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     }
     for (auto& [k, v] : view_ms) j["view_gpu_ms"][k] = median(v);
     j["view_wall_ms"] = median(view_total);
+    const auto mem = vk::memory_stats();
+    j["peak_device_bytes"] = mem.peak;
+    j["peak_host_bytes"] = peak_host_bytes();
     if (a.json) {
         std::printf("%s\n", j.dump(2).c_str());
         return;
@@ -219,6 +224,8 @@ void run_bench_segment(const BenchSegmentArgs& a) {
     std::printf("| masks of one view (GPU ms) | median |\n|---|---:|\n");
     for (auto& [k, v] : view_ms) std::printf("| %s | %.2f |\n", k.c_str(), median(v));
     std::printf("| **wall** | %.2f |\n", median(view_total));
+    std::printf("\npeak device memory %.1f MiB, peak host memory %.1f MiB\n", double(mem.peak) / (1 << 20),
+                double(peak_host_bytes()) / (1 << 20));
 }
 
 }  // namespace

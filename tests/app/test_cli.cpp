@@ -178,6 +178,8 @@ TEST_CASE("bench segment times a first, a new-domain, a new-segmenter and a furt
     // A further click on the same objects reuses their graph.
     CHECK(j["click_ms"]["graph build"].get<double>() < 0.1 * j["new_domain_click_ms"]["graph build"].get<double>());
     CHECK(j["view_gpu_ms"]["label raster"].get<double>() > 0.0);
+    CHECK(j["peak_device_bytes"].get<double>() > 0.0);
+    CHECK(j["peak_host_bytes"].get<double>() > 0.0);
 }
 
 TEST_CASE("bench train prints the step's ops, with the Lovasz loss when asked") {
