@@ -26,7 +26,19 @@ namespace fs = std::filesystem;
 JobEngine::JobEngine(vk::Context& ctx, const SceneData& scene, const render::GpuScene& gpu_scene)
     : ctx_(ctx), scene_(scene), gpu_scene_(gpu_scene), lift_renderer_(ctx) {}
 
-void JobEngine::warm_up() { seg::warm_up(ctx_, scene_.options); }
+void JobEngine::warm_up(const std::string& decoder) {
+    seg::warm_up(ctx_, scene_.options);
+    // The network, if the decoder has one, loads here too; a file that does not load says so on
+    // the first click, as it did before.
+    try {
+        segmenter(network_for(decoder)).index_columns(scene_.options.up);
+    } catch (const data::InputError&) {
+    }
+}
+
+std::string JobEngine::network_for(const std::string& decoder) const {
+    return decoder == "ground-truth" ? "ground-truth" : decoder == "graph" ? std::string() : scene_.model;
+}
 
 seg::Anchor JobEngine::lift(const data::Camera& camera, double u, double v, bool positive) {
     return seg::lift_click(lift_renderer_, gpu_scene_, camera, u, v, positive, scene_.options.render,
@@ -60,10 +72,7 @@ seg::Segmenter& JobEngine::segmenter(const std::string& network) {
 
 SegmentOutcome JobEngine::segment(const SegmentJob& job, std::map<std::string, double>& stage_ms,
                                   const std::atomic<bool>* cancel, const std::function<void(SegmentOutcome)>& coarse) {
-    const std::string network = job.decoder == "ground-truth" ? "ground-truth"
-                                : job.decoder == "graph"      ? std::string()
-                                                              : scene_.model;
-    return segment_job(segmenter(network), job, scene_.options, stage_ms, cancel, coarse);
+    return segment_job(segmenter(network_for(job.decoder)), job, scene_.options, stage_ms, cancel, coarse);
 }
 
 ClassLabels JobEngine::label_by_class(const std::string& model, const std::atomic<bool>* cancel,

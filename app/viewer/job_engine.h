@@ -48,8 +48,9 @@ class JobEngine {
 public:
     JobEngine(vk::Context& ctx, const SceneData& scene, const render::GpuScene& gpu_scene);
 
-    // Builds the pipelines a graph click uses (seg::warm_up), so the first click costs what a later one does.
-    void warm_up();
+    // Builds the pipelines a graph click uses (seg::warm_up) and the segmenter `decoder` clicks
+    // with, its column index made, so the first click costs what a later one does.
+    void warm_up(const std::string& decoder);
     // A click at pixel (u, v) of `camera` -> where it lands; InputError when it hits nothing.
     seg::Anchor lift(const data::Camera& camera, double u, double v, bool positive);
     // A prompts.json click (in a view of the scene, or a 3D point) -> where it lands.
@@ -71,6 +72,7 @@ public:
 
 private:
     seg::Segmenter& segmenter(const std::string& network);  // "": none, else a model file or ground-truth
+    std::string network_for(const std::string& decoder) const;  // the network a viewer decoder segments with
 
     vk::Context& ctx_;
     const SceneData& scene_;

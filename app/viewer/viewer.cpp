@@ -94,9 +94,9 @@ void Viewer::open(const ViewerOptions& options) {
     jobs_ = std::make_unique<Worker>(false);
     // The segmentation pipelines are built now, while the user looks at the first frames, not
     // on the first click (see warm_up.h).
-    jobs_->post([this] {
+    jobs_->post([this, decoder = decoder_] {
         try {
-            job_engine_->warm_up();
+            job_engine_->warm_up(decoder);
         } catch (const std::exception& e) {
             std::fprintf(stderr, "viewer: warming up the segmentation pipelines failed: %s\n", e.what());
         }

@@ -63,6 +63,12 @@ double Segmenter::scale_from_cameras(const glm::dvec3& target) const {
     return std::max(1e-6, 0.25 * d[d.size() / 2]);
 }
 
+void Segmenter::index_columns(const glm::dvec3& up) {
+    RoiBox roi;
+    data::horizontal_axes(up, roi.length_axis, roi.width_axis);
+    columns(roi);
+}
+
 const ColumnIndex& Segmenter::columns(const RoiBox& roi) {
     if (!columns_ || !columns_->has_axes(roi.length_axis, roi.width_axis))
         columns_.emplace(cloud_, roi.length_axis, roi.width_axis);

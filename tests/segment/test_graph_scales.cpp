@@ -315,3 +315,20 @@ TEST_CASE("graph decoder: past graph_focus the fine graph covers the objects' co
     CHECK(b > 0.65);  // three of ten objects clicked: the others are nobody's
     CHECK(a >= b - 0.02);
 }
+
+TEST_CASE("graph decoder: a column index made before the first click (the viewer's warm-up) answers as the click's own, and one across another axis is made again") {
+    const Sample three(3);
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, three.cloud);
+    const seg::SegmentOptions o = three.options();
+    seg::Segmenter cold(ctx, three.cloud, gpu, three.cameras);
+    const auto want = cold.segment(three.prompts, o);
+    REQUIRE(want.failed() == 0);
+    for (const glm::dvec3 up : {o.up, glm::dvec3(1, 0, 0)}) {
+        seg::Segmenter warm(ctx, three.cloud, gpu, three.cameras);
+        warm.index_columns(up);
+        const auto got = warm.segment(three.prompts, o);
+        CHECK(got.labels == want.labels);
+        CHECK(got.objects.front().roi_gaussians == want.objects.front().roi_gaussians);
+    }
+}
