@@ -51,6 +51,20 @@ bool reaches(const data::GaussianCloud& cloud, const data::Camera& camera, uint3
     return !(dx > std::sqrt(extent2 * f.var_x) * 1.01 + 1.0 || dy > std::sqrt(extent2 * f.var_y) * 1.01 + 1.0);
 }
 
+// Cores for a pass over n Gaussians: one below 65,536 (threads would cost more than they save).
+uint32_t cores_for(uint32_t n) { return n < (1u << 16) ? 1u : std::clamp(std::thread::hardware_concurrency(), 1u, 16u); }
+
+// fn(t, begin, end) on `threads` contiguous ranges of [0, n), range 0 on this thread: joined in
+// range order, their outputs keep id order.
+template <class Fn>
+void in_ranges(uint32_t n, uint32_t threads, Fn&& fn) {
+    auto range = [&](uint32_t t) { fn(t, uint32_t(uint64_t(n) * t / threads), uint32_t(uint64_t(n) * (t + 1) / threads)); };
+    std::vector<std::thread> pool;
+    for (uint32_t t = 1; t < threads; ++t) pool.emplace_back(range, t);
+    range(0);
+    for (auto& th : pool) th.join();
+}
+
 bool same_view(const data::Camera& a, const data::Camera& b) {
     return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy &&
            a.R == b.R && a.t == b.t;
@@ -61,18 +75,12 @@ bool same_view(const data::Camera& a, const data::Camera& b) {
 std::vector<uint32_t> pixel_candidates(const data::GaussianCloud& cloud, const data::Camera& camera, int px, int py) {
     // Contiguous ranges on the cores, joined in order: the same ascending list as one loop (a
     // view's first click on 6 M Gaussians scans them all).
-    const uint32_t n = uint32_t(cloud.size());
-    const uint32_t threads = n < (1u << 16) ? 1u : std::clamp(std::thread::hardware_concurrency(), 1u, 16u);
+    const uint32_t n = uint32_t(cloud.size()), threads = cores_for(n);
     std::vector<std::vector<uint32_t>> part(threads);
-    auto scan = [&](uint32_t t) {
-        const uint32_t begin = uint32_t(uint64_t(n) * t / threads), end = uint32_t(uint64_t(n) * (t + 1) / threads);
+    in_ranges(n, threads, [&](uint32_t t, uint32_t begin, uint32_t end) {
         for (uint32_t i = begin; i < end; ++i)
             if (reaches(cloud, camera, i, px, py)) part[t].push_back(i);
-    };
-    std::vector<std::thread> pool;
-    for (uint32_t t = 1; t < threads; ++t) pool.emplace_back(scan, t);
-    scan(0);
-    for (auto& th : pool) th.join();
+    });
     std::vector<uint32_t> out = std::move(part[0]);
     for (uint32_t t = 1; t < threads; ++t) out.insert(out.end(), part[t].begin(), part[t].end());
     return out;
@@ -82,18 +90,21 @@ void PixelBins::prepare(const data::GaussianCloud& cloud) {
     if (prepared_ == &cloud && size_.size() == cloud.size()) return;
     // The view-independent half of each footprint's bound, once per cloud: a view's bins then
     // cost a projection and a square root per Gaussian.
-    size_.resize(cloud.size());
-    for (uint32_t i = 0; i < cloud.size(); ++i) {
-        // In float (a third of the time), rounded outwards: the bins' bounds have a pixel of
-        // slack, and the exact test runs in double per click. Only what is surely fainter than
-        // the renderer's floor is left out.
-        const glm::vec3 ls = cloud.log_scale[i];
-        const float s2 = std::exp(2.0f * std::max(ls.x, std::max(ls.y, ls.z)));
-        const float opacity = 1.0f / (1.0f + std::exp(-cloud.opacity_logit[i]));
-        size_[i] = glm::vec2(s2, opacity < 0.999f * render::gpu::kAlphaMin
-                                     ? -1.0f
-                                     : std::max(2.0f * std::log(255.0f * opacity) * 1.0002f + 2e-4f, 2e-4f));
-    }
+    const uint32_t n = uint32_t(cloud.size());
+    size_.resize(n);
+    in_ranges(n, cores_for(n), [&](uint32_t, uint32_t begin, uint32_t end) {
+        for (uint32_t i = begin; i < end; ++i) {
+            // In float (a third of the time), rounded outwards: the bins' bounds have a pixel of
+            // slack, and the exact test runs in double per click. Only what is surely fainter than
+            // the renderer's floor is left out.
+            const glm::vec3 ls = cloud.log_scale[i];
+            const float s2 = std::exp(2.0f * std::max(ls.x, std::max(ls.y, ls.z)));
+            const float opacity = 1.0f / (1.0f + std::exp(-cloud.opacity_logit[i]));
+            size_[i] = glm::vec2(s2, opacity < 0.999f * render::gpu::kAlphaMin
+                                         ? -1.0f
+                                         : std::max(2.0f * std::log(255.0f * opacity) * 1.0002f + 2e-4f, 2e-4f));
+        }
+    });
     prepared_ = &cloud;
 }
 
@@ -125,22 +136,37 @@ PixelBins::View PixelBins::bin(const data::GaussianCloud& cloud, const data::Cam
         r.y1 = uint32_t(std::min(hi_y, double(camera.height - 1))) / kBin;
         return uint64_t(r.x1 - r.x0 + 1) * (r.y1 - r.y0 + 1) > kMostBins ? Where::Always : Where::Bins;
     };
-    v.start.assign(size_t(v.columns) * v.rows + 1, 0);
-    Rect r{};
-    for (uint32_t i = 0; i < cloud.size(); ++i)
-        if (rect_of(i, r) == Where::Bins)
-            for (uint32_t y = r.y0; y <= r.y1; ++y)
-                for (uint32_t x = r.x0; x <= r.x1; ++x) ++v.start[size_t(y) * v.columns + x + 1];
-    for (size_t b = 1; b < v.start.size(); ++b) v.start[b] += v.start[b - 1];
-    v.ids.resize(v.start.back());
-    std::vector<uint32_t> fill(v.start.begin(), v.start.end() - 1);
-    for (uint32_t i = 0; i < cloud.size(); ++i) {  // in id order: each bin ascending
-        const Where w = rect_of(i, r);
-        if (w == Where::Always) v.always.push_back(i);
-        if (w != Where::Bins) continue;
-        for (uint32_t y = r.y0; y <= r.y1; ++y)
-            for (uint32_t x = r.x0; x <= r.x1; ++x) v.ids[fill[size_t(y) * v.columns + x]++] = i;
+    // On the cores, each a contiguous range of ids: a bin holds range 0's ids, then range 1's, ...,
+    // so it ascends as one pass would fill it.
+    const uint32_t n = uint32_t(cloud.size()), threads = cores_for(n);
+    const size_t bins = size_t(v.columns) * v.rows;
+    std::vector<std::vector<uint32_t>> fill(threads, std::vector<uint32_t>(bins, 0)), always(threads);
+    in_ranges(n, threads, [&](uint32_t t, uint32_t begin, uint32_t end) {
+        Rect r{};
+        for (uint32_t i = begin; i < end; ++i)
+            if (rect_of(i, r) == Where::Bins)
+                for (uint32_t y = r.y0; y <= r.y1; ++y)
+                    for (uint32_t x = r.x0; x <= r.x1; ++x) ++fill[t][size_t(y) * v.columns + x];
+    });
+    // Counts become each range's first slot in each bin.
+    v.start.assign(bins + 1, 0);
+    for (size_t b = 0; b < bins; ++b) {
+        uint32_t at = v.start[b];
+        for (uint32_t t = 0; t < threads; ++t) std::swap(at, fill[t][b]), at += fill[t][b];
+        v.start[b + 1] = at;
     }
+    v.ids.resize(v.start.back());
+    in_ranges(n, threads, [&](uint32_t t, uint32_t begin, uint32_t end) {
+        Rect r{};
+        for (uint32_t i = begin; i < end; ++i) {
+            const Where w = rect_of(i, r);
+            if (w == Where::Always) always[t].push_back(i);
+            if (w != Where::Bins) continue;
+            for (uint32_t y = r.y0; y <= r.y1; ++y)
+                for (uint32_t x = r.x0; x <= r.x1; ++x) v.ids[fill[t][size_t(y) * v.columns + x]++] = i;
+        }
+    });
+    for (const auto& a : always) v.always.insert(v.always.end(), a.begin(), a.end());
     return v;
 }
 

@@ -62,12 +62,15 @@ TEST_CASE("pixel bins: a click's candidates are the scan's, pixel by pixel, as v
 }
 
 TEST_CASE("pixel bins: a cloud the scan splits across threads gives the bins' candidates, in order") {
-    // Past 65,536 Gaussians the scan runs in contiguous ranges on the cores; joined in order it is
-    // the ascending list the bins give (a misjoined or lost range fails).
-    const auto scene = ref::random_scene(77, 90000, 0);
+    // Past 65,536 Gaussians the scan and the binning run in contiguous ranges on the cores; joined
+    // in order they give the same ascending lists (a misjoined or lost range fails).
+    auto scene = ref::random_scene(77, 90000, 0);
+    // Footprints over more bins than a bin list takes, in every range: the unbinned list the
+    // ranges join must ascend too.
+    for (uint32_t i : {5u, 30000u, 44999u, 45000u, 89999u}) scene.cloud.log_scale[i] = glm::vec3(1.5f);
     const data::Camera& cam = scene.cameras.front();
     seg::PixelBins bins(1);
-    size_t nonempty = 0;
+    size_t nonempty = 0, wide = 0;  // wide: pixels both ranges' wide footprints reach
     for (int py = 1; py < cam.height; py += 7)
         for (int px = 2; px < cam.width; px += 9) {
             const auto want = seg::pixel_candidates(scene.cloud, cam, px, py);
@@ -75,6 +78,8 @@ TEST_CASE("pixel bins: a cloud the scan splits across threads gives the bins' ca
             CHECK(std::is_sorted(want.begin(), want.end()));
             CHECK(got == want);
             nonempty += want.size() > 1000;
+            wide += std::count_if(want.begin(), want.end(), [](uint32_t i) { return i == 44999 || i == 45000; }) == 2;
         }
     CHECK(nonempty > 10);
+    CHECK(wide > 10);
 }
