@@ -5,6 +5,7 @@
 // window of it per dispatch.
 #include "render/render_shared.h"
 #include "render/tile_test.glsl"
+#include "render/splat_alpha.glsl"
 #include "render/tile_runs.glsl"
 #include "render/tile_window.glsl"
 
@@ -100,12 +101,9 @@ void main() {
         for (uint t = 0u; t < run_count; ++t) {
             uint j = tile_runs_entry(run, t);
             vec4 mo = s_mean_opacity[j];
-            vec4 con = s_conic[j];
-            vec2 d = mo.xy - center;
-            float power = -0.5 * (con.x * d.x * d.x + con.z * d.y * d.y) - con.y * d.x * d.y;
-            float alpha = min(kAlphaMax, mo.z * exp(min(power, 0.0)));
+            bool use;
+            float alpha = splat_alpha(mo.xy, mo.z, s_conic[j].xyz, center, use);
             float test_T = T * (1.0 - alpha);
-            bool use = power <= 0.0 && alpha >= kAlphaMin;
             // The Gaussian that would push T under the floor is not blended; the pixel is done.
             if (use && test_T < kTransmittanceMin) {
                 done = true;

@@ -14,6 +14,7 @@
 // (kTileWindow keys, render_shared.h says why) and keeps the walk in `state` for the next.
 #extension GL_GOOGLE_include_directive : require
 #include "render/render_shared.h"
+#include "render/splat_alpha.glsl"
 
 layout(local_size_x = 1) in;
 layout(std430, binding = 0) readonly buffer Frame { FrameParams frame; };
@@ -92,10 +93,9 @@ void walk(inout Walk r, uvec2 range, vec2 center, float tau, vec3 ray, float cos
     for (uint k = range.x; k < range.y && !r.stopped; ++k) {
         uint id = values[k];
         Splat sp = splats[id];
-        vec2 d = sp.mean - center;
-        float power = -0.5 * (sp.conic.x * d.x * d.x + sp.conic.z * d.y * d.y) - sp.conic.y * d.x * d.y;
-        float alpha = min(kAlphaMax, sp.opacity * exp(min(power, 0.0)));
-        if (power > 0.0 || alpha < kAlphaMin) continue;
+        bool use;
+        float alpha = splat_alpha(sp.mean, sp.opacity, sp.conic.xyz, center, use);
+        if (!use) continue;
         float test_T = r.T * (1.0 - alpha);
         if (test_T < kTransmittanceMin) {  // blend stops here too
             r.stopped = true;

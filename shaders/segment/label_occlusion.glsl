@@ -17,6 +17,7 @@
 #include "render/tile_window.glsl"
 #include "render/tile_test.glsl"
 #include "render/tile_runs.glsl"
+#include "render/splat_alpha.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(std430, binding = 0) readonly buffer Frame { FrameParams frame; };
@@ -116,12 +117,9 @@ void main() {
         for (uint t = 0u; t < run_count; ++t) {
             uint j = tile_runs_entry(run, t);
             vec4 mo = s_mean_opacity[j];
-            vec4 con = s_conic[j];
-            vec2 d = mo.xy - center;
-            float power = -0.5 * (con.x * d.x * d.x + con.z * d.y * d.y) - con.y * d.x * d.y;
-            float alpha = min(kAlphaMax, mo.z * exp(min(power, 0.0)));
+            bool use;
+            float alpha = splat_alpha(mo.xy, mo.z, s_conic[j].xyz, center, use);
             float test_T = T * (1.0 - alpha);
-            bool use = power <= 0.0 && alpha >= kAlphaMin;
             if (use && test_T < kTransmittanceMin) {
                 done = true;
                 break;
