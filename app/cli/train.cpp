@@ -32,7 +32,7 @@ namespace {
 
 struct TrainArgs {
     std::vector<std::string> data, val;
-    std::string config = "tiny", out, resume, task = "auto", features = "none";
+    std::string config = "tiny", out, resume, init, task = "auto", features = "none";
     int points = 8192;
     double tile = 64.0, grid = 0.01;
     double weight_decay = 0.05, drop_path = 0.1, lovasz = 0;
@@ -145,10 +145,24 @@ void run_train(const TrainArgs& a) {
         }
         config = ckpt->config;
     }
+    // --init: a model file's weights and config, with a fresh optimizer and schedule (fine-tuning).
+    std::map<std::string, std::vector<float>> init_values;
+    if (!a.init.empty()) {
+        if (ckpt) throw data::InputError("--init", "cannot be combined with --resume (a checkpoint holds its own weights)");
+        try {
+            const nn::SafeTensors file = nn::SafeTensors::load(a.init);
+            config = nn::Ptv3Weights::config_of(file);
+            init_values = nn::Ptv3Weights::host_values(file);
+        } catch (const nn::FormatError& e) {
+            throw data::InputError("--init", e.what());
+        }
+    }
+    const bool from_model = ckpt || !a.init.empty();
+    const char* start_option = ckpt ? "--resume" : "--init";
     if (a.task != "auto" && a.task != "interactive" && a.task != "semantic")
         throw data::InputError("--task", "expected auto, interactive or semantic, got '" + a.task + "'");
-    const bool semantic = a.task == "auto" ? (ckpt ? config.semantic() : semantic_data(a.data)) : a.task == "semantic";
-    if (!ckpt) {
+    const bool semantic = a.task == "auto" ? (from_model ? config.semantic() : semantic_data(a.data)) : a.task == "semantic";
+    if (!from_model) {
         config = ptv3_config_arg(a.config, "--config");
         if (semantic) {
             if (!(a.tile > 0)) throw data::InputError("--tile", "must be positive");
@@ -171,7 +185,7 @@ void run_train(const TrainArgs& a) {
                                : !config.semantic() && config.input_frame == "roi" && config.num_classes == 2 &&
                                      config.in_channels == 2 + data::semantic::feature_channels(config.features);
     if (!fits)
-        throw data::InputError("--resume", semantic ? "is not a semantic model checkpoint" : "is not an interactive model checkpoint");
+        throw data::InputError(start_option, semantic ? "is not a semantic model" : "is not an interactive model");
 
     std::unique_ptr<data::train::SampleDrawer> drawer, val_drawer;
     std::unique_ptr<data::train::SemanticDrawer> sem_drawer, sem_val;
@@ -183,7 +197,7 @@ void run_train(const TrainArgs& a) {
         so.grid = config.grid_size;
         so.features = config.features;
         if (data::semantic::feature_channels(so.features) != config.in_channels)
-            throw data::InputError("--resume", "its feature groups do not give its in_channels");
+            throw data::InputError(start_option, "its feature groups do not give its in_channels");
         sem_drawer = semantic_drawer(a.data, "train", "--data", config, so);
         if (!a.val.empty()) sem_val = semantic_drawer(a.val, "test", "--val", config, so.without_augmentation());
         std::fprintf(stderr, "training the semantic model (%d classes) on %zu scene(s); validation on %zu scene(s)\n",
@@ -213,7 +227,9 @@ void run_train(const TrainArgs& a) {
     to.seed = a.run.seed;
     to.adamw.weight_decay = a.weight_decay;
     auto weights = ckpt ? nn::Ptv3Weights::from_host(*pool, config, ckpt->weights, a.resume)
-                        : nn::Ptv3Weights::from_host(*pool, config, nn::train::initial_weights(config, a.run.seed), "initial");
+                   : !a.init.empty() ? nn::Ptv3Weights::from_host(*pool, config, init_values, a.init)
+                                     : nn::Ptv3Weights::from_host(*pool, config, nn::train::initial_weights(config, a.run.seed), "initial");
+    init_values.clear();
     nn::train::Trainer trainer(*pool, std::move(weights), to);
     int64_t start = 0;
     if (ckpt) {
@@ -288,6 +304,7 @@ void register_train(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--calibration", a->run.calibration, "Samples that settle the BatchNorm statistics at the end")
         ->capture_default_str();
     cmd->add_option("--resume", a->resume, "Continue from this checkpoint (OUT.ckpt.safetensors)");
+    cmd->add_option("--init", a->init, "Start from this model file's weights and config, with a fresh optimizer and schedule (fine-tuning; the classes must be --data's)");
     cmd->add_option("--stop-at", a->run.stop_at, "Stop after this step, writing the checkpoint only (train in chunks)");
     add_device_option(*cmd, a->device);
     cmd->callback([a, &run] { run = [a] { run_train(*a); }; });

@@ -10,6 +10,8 @@
 
 #include "dataset/atomic_file.h"
 #include "dataset/formats/image_io.h"
+#include "nn/ptv3/weights.h"
+#include "nn/safetensors.h"
 #include "tests/app/cli_run.h"
 #include "tests/test_paths.h"
 
@@ -111,6 +113,55 @@ TEST_CASE("train writes an interactive model, its log and a checkpoint, chunks r
     CHECK(seg.code == 0);
 }
 
+TEST_CASE("train --init fine-tunes a model file: its config and weights are where training starts") {
+    const fs::path suite = train_suite();
+    const fs::path dir = pg::test::scratch("cli-train-init");
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    // A base model with per-Gaussian features, then one step at a vanishing learning rate from it:
+    // every trained parameter stays the base's (the BatchNorm statistics settle again at the end).
+    Run base = run(common_args(suite) + " --steps 2 --features rgb --out " + (dir / "base.safetensors").string());
+    INFO(base.out);
+    REQUIRE(base.code == 0);
+    Run tuned = run(common_args(suite) + " --steps 1 --lr 1e-12 --weight-decay 0 --init " +
+                    (dir / "base.safetensors").string() + " --out " + (dir / "tuned.safetensors").string());
+    INFO(tuned.out);
+    REQUIRE(tuned.code == 0);
+    const json config = json::parse(safetensors_metadata(dir / "tuned.safetensors")["config"].get<std::string>());
+    CHECK(config["features"] == json::array({"rgb"}));  // the base's, though --features was not given
+    const auto a = pg::nn::Ptv3Weights::host_values(pg::nn::SafeTensors::load(dir / "base.safetensors"));
+    const auto b = pg::nn::Ptv3Weights::host_values(pg::nn::SafeTensors::load(dir / "tuned.safetensors"));
+    REQUIRE(a.size() == b.size());
+    size_t compared = 0;
+    for (const auto& [name, values] : a) {
+        if (name.find("running_") != std::string::npos) continue;
+        REQUIRE(b.count(name));
+        const auto& other = b.at(name);
+        REQUIRE(other.size() == values.size());
+        float worst = 0;
+        for (size_t i = 0; i < values.size(); ++i) worst = std::max(worst, std::abs(values[i] - other[i]));
+        INFO(name);
+        CHECK(worst < 1e-6f);
+        ++compared;
+    }
+    CHECK(compared > 20);
+    // From fresh weights the same step gives other parameters: the check above can fail.
+    Run fresh = run(common_args(suite) + " --steps 1 --lr 1e-12 --weight-decay 0 --features rgb --out " +
+                    (dir / "fresh.safetensors").string());
+    REQUIRE(fresh.code == 0);
+    const auto c = pg::nn::Ptv3Weights::host_values(pg::nn::SafeTensors::load(dir / "fresh.safetensors"));
+    bool differs = false;
+    for (const auto& [name, values] : a)
+        if (name.find("running_") == std::string::npos && c.at(name) != values) differs = true;
+    CHECK(differs);
+    // A checkpoint holds its own weights: --init with --resume is an error naming --init.
+    Run both = run(common_args(suite) + " --steps 3 --init " + (dir / "base.safetensors").string() + " --resume " +
+                   (dir / "base.ckpt.safetensors").string() + " --out " + (dir / "both.safetensors").string());
+    CHECK(both.code != 0);
+    CHECK(both.out.find("--init") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "both.safetensors"));
+}
+
 TEST_CASE("train --lovasz adds the Lovasz loss and logs it") {
     const fs::path suite = train_suite();
     const fs::path dir = pg::test::scratch("cli-train-lovasz");
@@ -170,6 +221,7 @@ TEST_CASE("train: bad arguments are one clear error and nothing is written") {
         {common_args(suite) + " --lovasz -1" + out, "--lovasz"},
         {common_args(suite) + " --features rgb,sparkle" + out, "--features"},
         {common_args(suite) + " --resume " + (suite / "suite.json").string() + out, "--resume"},
+        {common_args(suite) + " --init " + (suite / "suite.json").string() + out, "--init"},
     };
     for (const auto& c : cases) {
         Run r = run(c.args);
