@@ -85,7 +85,7 @@ void check_predicted_classes(const SuiteInfo& suite, const fs::path& pred_scene)
     for (const auto& c : j["classes"])
         if (c.is_object() && c.contains("name") && c["name"].is_string())
             predicted += (predicted.empty() ? "" : ", ") + c["name"].get<std::string>();
-    for (const auto& c : suite.classes) expected += (expected.empty() ? "" : ", ") + c.name;
+    for (const auto& c : suite.two_class ? suite.own_classes : suite.classes) expected += (expected.empty() ? "" : ", ") + c.name;
     if (predicted != expected)
         throw InputError(report.string(), "the model's classes (" + predicted + ") are not the suite's (" + expected +
                                               "): its class ids cannot be scored against this ground truth");

@@ -20,8 +20,10 @@ struct SuiteInfo {
     uint64_t seed = 0;
     std::vector<std::string> scenes, train, test;
     std::vector<ClassInfo> classes;
-    // Set by `eval --two-class` (two_class.h): scores see this class against background.
+    // Set by `eval --two-class` (two_class.h): scores see this class against background, and
+    // `classes` holds those two; `own_classes` keeps the suite's, which a prediction names.
     std::optional<ClassInfo> two_class;
+    std::vector<ClassInfo> own_classes;
 
     bool semantic() const { return task == "semantic"; }
     // The per-Gaussian PLY property and mask meaning of the task: "instance" or "class".

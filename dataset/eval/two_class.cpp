@@ -19,6 +19,7 @@ void use_two_class_view(SuiteInfo& suite, const std::string& which) {
             if (c.id == 0)
                 throw InputError("--two-class", "'" + which + "' is class 0, the background of the two-class view");
             suite.two_class = c;
+            suite.own_classes = std::move(suite.classes);
             suite.classes = {{0, "background"}, c};
             return;
         }

@@ -263,6 +263,30 @@ TEST_CASE("eval --two-class scores a campus suite as building vs background") {
     CHECK(j["two_class"]["id"] == 1);
     CHECK(j["scenes"][0]["3d"]["classes"].size() == 2);
     CHECK(j["scenes"][0]["3d"]["miou"].get<double>() == Approx(1.0));
+    // A model's output names its classes in report.json: the suite's seven, in the two-class view
+    // too (it maps them); a model of other classes is refused in either view.
+    const fs::path pred = dir / "pred" / "campus_000";
+    fs::create_directories(pred);
+    fs::copy(dir / "suite" / "campus_000" / "scene.ply", pred / "scene.ply");
+    fs::copy(dir / "suite" / "campus_000" / "masks", pred / "masks", fs::copy_options::recursive);
+    auto report = [&](const nlohmann::json& classes) {
+        pg::data::write_atomically(pred / "report.json", [&](std::ostream& os) {
+            os << nlohmann::json{{"mode", "semantic"}, {"classes", classes}}.dump();
+        });
+    };
+    report(suite["classes"]);
+    const std::string scored = "eval --gt " + (dir / "suite").string() + " --pred " + (dir / "pred").string() + " --split all";
+    auto model = run(scored + " --two-class building");
+    INFO(model.out);
+    CHECK(model.code == 0);
+    CHECK(model.out.find("two-class view: building vs background") != std::string::npos);
+    report(nlohmann::json::array({{{"id", 0}, {"name", "background"}}, {{"id", 1}, {"name", "building"}}}));
+    for (const std::string view : {"", " --two-class building"}) {
+        auto other = run(scored + view);
+        INFO(other.out);
+        CHECK(other.code == 1);
+        CHECK(other.out.find("are not the suite's") != std::string::npos);
+    }
     auto bad = run(base + " --two-class tree --json " + (dir / "bad.json").string());
     CHECK(bad.code == 1);
     CHECK(bad.out.find("--two-class") != std::string::npos);
