@@ -158,7 +158,7 @@ void run_train(const TrainArgs& a) {
         }
     }
     const bool from_model = ckpt || !a.init.empty();
-    const char* start_option = ckpt ? "--resume" : "--init";
+    const char* start_option = ckpt ? "--resume" : !a.init.empty() ? "--init" : "--config";
     if (a.task != "auto" && a.task != "interactive" && a.task != "semantic")
         throw data::InputError("--task", "expected auto, interactive or semantic, got '" + a.task + "'");
     const bool semantic = a.task == "auto" ? (from_model ? config.semantic() : semantic_data(a.data)) : a.task == "semantic";
