@@ -75,6 +75,9 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     width_ = camera.width;
     height_ = camera.height;
     last_scene_ = &scene;
+    blend_kernel_ = settings.blend_kernel != BlendKernel::Auto ? settings.blend_kernel
+                    : ctx_.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? BlendKernel::ColumnOfFour
+                                                                      : BlendKernel::Pixel;
     if (style) check_style(*style, scene.size());
 
     if (!splats_.valid()) {
@@ -262,7 +265,10 @@ void Renderer::record_tile_passes(uint32_t n, uint32_t flags, const vk::Buffer& 
     for (uint32_t w = 0; w < windows_; ++w) {
         const vk::Buffer& window_in = windows_ > 1 ? window_carry_[w % 2] : no_style_;
         const vk::Buffer& window_out = windows_ > 1 ? window_carry_[(w + 1) % 2] : no_style_;
-        cmd_.dispatch_2d(windows_ > 1 ? "render/blend_windows" : "render/blend",
+        const bool four = blend_kernel_ == BlendKernel::ColumnOfFour;
+        const char* kernel = windows_ > 1 ? (four ? "render/blend_windows_rows4" : "render/blend_windows_rows1")
+                                          : (four ? "render/blend_rows4" : "render/blend_rows1");
+        cmd_.dispatch_2d(kernel,
                          {frame_, splats_, values_, ranges_, image_, aux_, ids, carry_in, carry_out, window_in, window_out},
                          gpu::TileWindowPush{{w, windows_, 0, 0}}, tiles_x(), tiles_y());
     }

@@ -19,6 +19,12 @@
 
 namespace pg::render {
 
+// How many pixels of a tile's column one blend invocation draws. Auto: a column of four on CPU
+// Vulkan devices (lavapipe loads shared memory lane by lane, so four pixels sharing each splat's
+// loads take the blend to about 0.55x), one pixel elsewhere. Both draw the same frame; the tests
+// run both.
+enum class BlendKernel { Auto, Pixel, ColumnOfFour };
+
 struct RenderSettings {
     int width = 0, height = 0;     // 0: the camera's own size (intrinsics scale with it)
     glm::vec3 background{0.0f};
@@ -33,6 +39,7 @@ struct RenderSettings {
     // Bin the Gaussians into tile lists and skip the blend (and the slab hook): the image outputs
     // hold anything, but pick() and passes that walk the lists (tile_values, tile_ranges) work.
     bool lists_only = false;
+    BlendKernel blend_kernel = BlendKernel::Auto;
 };
 
 // An optional per-Gaussian look for viewers: each Gaussian's label picks a palette entry whose
@@ -139,6 +146,7 @@ private:
     vk::Buffer pick_state_;  // the pick's two walks between windows
     vk::Buffer window_carry_[2];  // pixel state between windows of the tile lists
     uint32_t windows_ = 1, longest_tile_ = 0;
+    BlendKernel blend_kernel_ = BlendKernel::Pixel;  // this frame's, resolved
     vk::Buffer slab_ids_, slab_labels_, carry_[2];  // streamed scenes only
     std::vector<uint32_t> slab_host_ids_;           // the last slab's scene ids
     SceneSlab slab_;
