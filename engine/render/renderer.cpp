@@ -76,7 +76,7 @@ void Renderer::render(const GpuScene& scene, const data::Camera& camera_in, cons
     height_ = camera.height;
     last_scene_ = &scene;
     blend_kernel_ = settings.blend_kernel != BlendKernel::Auto ? settings.blend_kernel
-                    : ctx_.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? BlendKernel::ColumnOfFour
+                    : ctx_.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? BlendKernel::Column
                                                                       : BlendKernel::Pixel;
     if (style) check_style(*style, scene.size());
 
@@ -265,7 +265,7 @@ void Renderer::record_tile_passes(uint32_t n, uint32_t flags, const vk::Buffer& 
     for (uint32_t w = 0; w < windows_; ++w) {
         const vk::Buffer& window_in = windows_ > 1 ? window_carry_[w % 2] : no_style_;
         const vk::Buffer& window_out = windows_ > 1 ? window_carry_[(w + 1) % 2] : no_style_;
-        const bool four = blend_kernel_ == BlendKernel::ColumnOfFour;
+        const bool four = blend_kernel_ == BlendKernel::Column;  // render/blend built with PG_RUN_ROWS 4
         const char* kernel = windows_ > 1 ? (four ? "render/blend_windows_rows4" : "render/blend_windows_rows1")
                                           : (four ? "render/blend_rows4" : "render/blend_rows1");
         cmd_.dispatch_2d(kernel,

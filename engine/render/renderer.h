@@ -19,11 +19,12 @@
 
 namespace pg::render {
 
-// How many pixels of a tile's column one blend invocation draws. Auto: a column of four on CPU
-// Vulkan devices (lavapipe loads shared memory lane by lane, so four pixels sharing each splat's
-// loads take the blend to about 0.55x), one pixel elsewhere. Both draw the same frame; the tests
-// run both.
-enum class BlendKernel { Auto, Pixel, ColumnOfFour };
+// How many pixels of a tile's column one invocation of the blend (and of the occlusion label
+// pass that walks the same lists) draws. Column: four for the blend, two for the label pass,
+// which holds more state per pixel. Auto: Column on CPU Vulkan devices (lavapipe loads shared
+// memory lane by lane, so the pixels of a column share each splat's loads: blend about 0.55x,
+// labels 0.8x), one pixel elsewhere. Both give the same images; the tests run both.
+enum class BlendKernel { Auto, Pixel, Column };
 
 struct RenderSettings {
     int width = 0, height = 0;     // 0: the camera's own size (intrinsics scale with it)
@@ -121,6 +122,7 @@ public:
     // Windows of gpu::kTileWindow keys that cover the longest tile list of the last frame (or
     // slab): passes that walk the lists take one window per dispatch.
     uint32_t tile_windows() const { return windows_; }
+    BlendKernel blend_kernel() const { return blend_kernel_; }  // the last frame's, Auto resolved
     uint32_t tiles_x() const;
     uint32_t tiles_y() const;
 

@@ -50,9 +50,12 @@ void LabelRasterizer::record(vk::CommandList& cmd, const render::Renderer& rende
     if (windows > 1)
         for (auto& w : window_carry_)
             w.ensure(uint64_t(renderer.width()) * uint64_t(renderer.height()) * render::gpu::kLabelCarryWords * 4);
-    // One window: the variant without the window carry (faster on lavapipe).
+    // One window: the variant without the window carry (faster on lavapipe). The occlusion pass
+    // draws a column of two pixels per invocation where the renderer's blend draws columns.
+    const bool column = renderer.blend_kernel() == render::BlendKernel::Column;
     const char* shader = mode == LabelMode::Paper ? (windows > 1 ? "segment/label_paper_windows" : "segment/label_paper")
-                                                  : (windows > 1 ? "segment/label_occlusion_windows" : "segment/label_occlusion");
+                         : column ? (windows > 1 ? "segment/label_occlusion_windows_rows2" : "segment/label_occlusion_rows2")
+                                  : (windows > 1 ? "segment/label_occlusion_windows_rows1" : "segment/label_occlusion_rows1");
     for (uint32_t w = 0; w < windows; ++w)
         cmd.dispatch_2d(shader,
                         {renderer.frame_buffer(), renderer.splat_buffer(), renderer.tile_values(), renderer.tile_ranges(),

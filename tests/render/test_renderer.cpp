@@ -58,7 +58,7 @@ TEST_CASE("the one-pixel and the column-of-four blends draw the same frames, bit
         render::GpuScene gpu_scene(ctx, scene.cloud);
         for (const auto& cam : scene.cameras) {
             render::RenderImages frames[2];
-            const render::BlendKernel kernels[2] = {render::BlendKernel::Pixel, render::BlendKernel::ColumnOfFour};
+            const render::BlendKernel kernels[2] = {render::BlendKernel::Pixel, render::BlendKernel::Column};
             for (int k = 0; k < 2; ++k) {
                 render::RenderSettings s;
                 s.blend_kernel = kernels[k];
