@@ -184,6 +184,43 @@ Tensor linear(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& w
     return run(cmd, pool, g, std::move(out));
 }
 
+Tensor linear_deep(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& w, uint64_t max_partial_floats) {
+    static const Tensor none;
+    if (!detail::use_lanes(pool.context()) || x.shape.size() != 2 || w.shape.size() != 2 || x.dim(1) != w.dim(1))
+        return linear(cmd, pool, x, w, none);
+    expect_f32(x, "linear", "x");
+    expect_f32(w, "linear", "weight");
+    const uint64_t M = uint64_t(x.dim(0)), N = uint64_t(w.dim(0)), K = uint64_t(x.dim(1));
+    constexpr uint32_t kc = 64;
+    // The split kernels read A and W 8 floats at a time and write y rows 8 at a time.
+    const bool shaped = K % 8 == 0 && N % 8 == 0 && M > 0 && N > 0;
+    const uint64_t slices = std::min<uint64_t>(ceil_div(K, kc), max_partial_floats / std::max<uint64_t>(M * N, 1));
+    if (!shaped || slices < 2) return linear(cmd, pool, x, w, none);
+    check_size(M * K, "linear");
+    check_size(N * K, "linear");
+    check_size(slices * M * N, "linear");
+    // Each workgroup takes `per` chunks of 64 (one dispatch per chunk); slice s of a dispatch
+    // starts at chunk s * per, so `slices` partial sums cover the depth.
+    const uint64_t per = ceil_div(ceil_div(K, kc), slices);
+    const uint64_t used = ceil_div(ceil_div(K, kc), per);
+    const uint32_t wg = M <= 128 ? 64 : 256;
+    const char* shader = wg == 64 ? "nn/linear_lanes_w64_k64_avec_yvec_split" : "nn/linear_lanes_w256_k64_avec_yvec_split";
+    Tensor part = pool.empty({int64_t(used), int64_t(M), int64_t(N)});
+    gpu::GemmPush push{uint32_t(M), uint32_t(N), uint32_t(K), 0, 0, uint32_t(K), 1, ceil_div(uint32_t(N), PG_LANES_NC),
+                       uint32_t(per * kc)};
+    const uint64_t tiles = uint64_t(ceil_div(uint32_t(M), wg)) * push.col_tiles;
+    for (uint64_t c = 0; c < per; ++c) {
+        // Chunk c of every slice; a slice's later chunks add to its partial sum.
+        push.k0 = uint32_t(c * kc);
+        push.flags = c == 0 ? PG_GEMM_FIRST : 0u;
+        cmd.dispatch(shader, {x, w, w, x, part, x}, push, tiles * used);
+    }
+    Tensor y = pool.empty({int64_t(M), int64_t(N)});
+    gpu::GemmReducePush rp{uint32_t(M), uint32_t(N), uint32_t(used), 0};
+    cmd.dispatch("nn/linear_reduce", {part, w, x, y}, rp, ceil_div(M * N, 256));
+    return y;
+}
+
 namespace detail {
 
 bool use_lanes(vk::Context& ctx) {

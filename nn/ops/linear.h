@@ -16,6 +16,13 @@ enum class Activation { None, Gelu };
 Tensor linear(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& w, const Tensor& bias,
               const Tensor& residual = {}, Activation act = Activation::None);
 
+// y[M,N] = x[M,K] · w[N,K]^T for a deep K and a small output (weight gradients: K is the rows
+// of a batch). The same sums as linear() without bias; on the lanes path the depth is split over
+// the workgroups of one dispatch in slices of 64 (at most `max_partial_floats` of partial sums)
+// and the slices added in order, instead of one dispatch per 64 of depth that one workgroup runs.
+Tensor linear_deep(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& w,
+                   uint64_t max_partial_floats = uint64_t(1) << 24);
+
 // Submanifold sparse convolution (nn/ops/sparse_conv.cpp). x [P, Cin] f32; nbr [M, T] int32 (T = kernel
 // volume; entry -1 = no neighbour; others must be < P); w [Cout, T*Cin] f32 (spconv's
 // [out, kx, ky, kz, in] flattened, so column t*Cin + c multiplies x[nbr[m,t], c]); bias [Cout] or

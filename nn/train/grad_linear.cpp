@@ -62,7 +62,7 @@ Tensor weight_grad(vk::CommandList& cmd, Pool& pool, const Tensor& dy, const Ten
     for (uint32_t w = 0; w < windows; ++w) {
         const uint32_t m0 = w * PG_GRAD_WEIGHT_ROWS, rows = std::min<uint32_t>(M - m0, PG_GRAD_WEIGHT_ROWS);
         Tensor dyt = transposed(dy, nullptr, N, m0, rows), at = transposed(x, nbr, K, m0, rows);
-        dw = swap ? ops::linear(cmd, pool, at, dyt, {}) : ops::linear(cmd, pool, dyt, at, {});
+        dw = swap ? ops::linear_deep(cmd, pool, at, dyt) : ops::linear_deep(cmd, pool, dyt, at);
         if (windows > 1) cmd.copy(*dw.buffer, *part.buffer, bytes, 0, w * bytes);
     }
     if (windows > 1) {

@@ -18,7 +18,17 @@
 // on every chunk: llvmpipe runs both sides of a branch), RULEBOOK (optional, with A_VEC and
 // Y_VEC: the rows are the pairs of one tap of a sparse-convolution rulebook, the tap whose
 // columns the chunk covers (cin % KC == 0, KC 16 allowed here); each adds its product into y
-// at its output row).
+// at its output row), SPLIT (optional, dense with A_VEC and Y_VEC: the depth is split over the
+// workgroups of one dispatch, slice s taking the chunk at pc.k0 + s * pc.slice_k and writing
+// its raw sum to y[s]; the host adds the slices. For deep products with few rows and columns, weight
+// gradients, where one dispatch per chunk left one workgroup, one core, and the dispatches'
+// fixed cost to dominate).
+#ifndef SPLIT
+#define SPLIT 0
+#endif
+#if SPLIT && (RULEBOOK || !(A_VEC && Y_VEC))
+#error "SPLIT is dense, with A_VEC and Y_VEC"
+#endif
 #ifndef RULEBOOK
 #define RULEBOOK 0
 #endif
@@ -75,12 +85,21 @@ void unpack8(u64vec4 v, out float f[8]) {
 
 void main() {
     const uint lid = gl_LocalInvocationIndex;
+#if SPLIT
+    const uint tiles = (pc.M + WG - 1u) / WG * pc.col_tiles;
+    const uint slice = pg_group_index() / tiles, g = pg_group_index() % tiles;
+    const uint k0 = pc.k0 + slice * pc.slice_k;
+    const uint ybase = slice * pc.M * pc.N;  // this slice's y
+#else
     const uint g = pg_group_index();
+    const uint k0 = pc.k0;
+    const uint ybase = 0u;
+#endif
     const uint n0 = (g % pc.col_tiles) * NC;
 #if RULEBOOK
     // Indirect dispatches cover exactly the tap's pairs; lanes past them compute on a copy of
     // its last pair and store nothing.
-    const uint tap = pc.k0 / pc.cin, first = tap * pc.M, count = counts[tap];
+    const uint tap = k0 / pc.cin, first = tap * pc.M, count = counts[tap];
     const uint p = (g / pc.col_tiles) * WG + lid;
     const uvec2 pair = pairs[first + min(p, max(count, 1u) - 1u)];
     const uint mr = pair.x;
@@ -98,11 +117,11 @@ void main() {
     [[unroll]] for (uint r = 0u; r < (groups + WG - 1u) / WG; ++r) {
         const uint i = r * WG + lid;
         if (groups % WG == 0u || i < groups) {
-            const uint c = i / (KC / 8u), k = pc.k0 + 8u * (i % (KC / 8u));
+            const uint c = i / (KC / 8u), k = k0 + 8u * (i % (KC / 8u));
             const bool valid = n0 + c < pc.N && k < pc.K;
             float f[8];
             unpack8(w8[(min(n0 + c, pc.N - 1u) * pc.K + min(k, pc.K - 8u)) / 8u], f);
-            [[unroll]] for (uint j = 0u; j < 8u; ++j) ws[c * KC + k - pc.k0 + j] = valid ? f[j] : 0.0;
+            [[unroll]] for (uint j = 0u; j < 8u; ++j) ws[c * KC + k - k0 + j] = valid ? f[j] : 0.0;
         }
     }
 #else
@@ -111,7 +130,7 @@ void main() {
     [[dont_unroll]] for (uint r = 0u; r < (NC * KC + WG - 1u) / WG; ++r) {
         const uint i = r * WG + lid;
         if ((NC * KC) % WG == 0u || i < NC * KC) {
-            const uint c = i / KC, k = pc.k0 + i % KC;
+            const uint c = i / KC, k = k0 + i % KC;
             const bool valid = n0 + c < pc.N && k < pc.K;
             const float v = w1[min(n0 + c, pc.N - 1u) * pc.K + min(k, max(pc.K, 1u) - 1u)];
             ws[i] = valid ? v : 0.0;
@@ -132,13 +151,13 @@ void main() {
     // The chunk lies in one tap (cin % KC == 0): KC columns of the pair's input row.
     [[unroll]] for (uint r = 0u; r < KC / 8u; ++r) {
         float f[8];
-        unpack8(x8[(pair.y * pc.cin + pc.k0 % pc.cin) / 8u + r], f);
+        unpack8(x8[(pair.y * pc.cin + k0 % pc.cin) / 8u + r], f);
         [[unroll]] for (uint i = 0u; i < 8u; ++i) a[8u * r + i] = f[i];
     }
 #elif A_VEC
     [[unroll]] for (uint q = 0u; q < KC / 32u; ++q) {
         // A 32-column segment lies in one tap: cin % 32 == 0 when gathered.
-        const uint k = pc.k0 + 32u * q;
+        const uint k = k0 + 32u * q;
         const uint t = min(k / pc.cin, pc.taps - 1u), c = k % pc.cin;
         int j = int(mr);
         if (gather) j = nbr[mr * pc.taps + t];
@@ -152,7 +171,7 @@ void main() {
     }
 #else
     [[dont_unroll]] for (uint kk = 0u; kk < KC; ++kk) {
-        const uint k = pc.k0 + kk;
+        const uint k = k0 + kk;
         const uint t = min(k / max(pc.cin, 1u), pc.taps - 1u), c = min(k % max(pc.cin, 1u), max(pc.cin, 1u) - 1u);
         int j = int(mr);
         if (gather) j = nbr[mr * pc.taps + t];
@@ -175,7 +194,7 @@ void main() {
 #if Y_VEC
         [[unroll]] for (uint i = 0u; i < NC / 8u; ++i) {
             float f[8];
-            unpack8(y8[(mr * pc.N + min(n0 + 8u * i, pc.N - 8u)) / 8u], f);
+            unpack8(y8[(ybase + mr * pc.N + min(n0 + 8u * i, pc.N - 8u)) / 8u], f);
             [[unroll]] for (uint j = 0u; j < 8u; ++j) acc[8u * i + j] = f[j];
         }
 #else
@@ -206,7 +225,7 @@ void main() {
                 u64vec4 v;
                 [[unroll]] for (uint j = 0u; j < 4u; ++j)
                     v[j] = pack64(uvec2(floatBitsToUint(acc[8u * i + 2u * j]), floatBitsToUint(acc[8u * i + 2u * j + 1u])));
-                y8[(mr * pc.N + n0) / 8u + i] = v;
+                y8[(ybase + mr * pc.N + n0) / 8u + i] = v;
             }
 #else
         [[unroll]] for (uint c = 0u; c < NC; ++c)

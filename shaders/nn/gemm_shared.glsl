@@ -32,6 +32,7 @@ struct GemmPush {
     uint flags;
     uint cin, taps;
     uint col_tiles;  // workgroups along N; the group index is row_tile * col_tiles + col_tile
+    uint slice_k;    // lanes SPLIT: depth between slices' starts (a multiple of the chunk depth)
 };
 
 // y = bias + residual + sum over splits of partial[s] (split-K epilogue).

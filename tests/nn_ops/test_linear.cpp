@@ -146,6 +146,38 @@ TEST_CASE("linear matches CPU on odd and PTv3 and split-K shapes with the tiled 
     check_linear(*pool, 61, 3456, 72, true, false, 38, true);  // GELU in the split-K epilogue
 }
 
+TEST_CASE("linear_deep sums a deep product in slices like the reference, on both kernel families") {
+    // Weight gradients' shape: few rows and columns, thousands of depth. On the lanes path the
+    // depth goes in slices of one chunk each, or of several when the partial sums' budget is
+    // small, a short last slice, and falls back to linear() where the split kernels cannot.
+    struct Case {
+        int64_t M, K, N;
+        uint64_t budget;
+    };
+    const Case cases[] = {{32, 4096, 32, uint64_t(1) << 24},  // 64 slices of one chunk
+                          {24, 4104, 16, 24 * 16 * 5},        // 5 slices of 13 chunks, the last short
+                          {300, 1000, 8, uint64_t(1) << 24},  // 256-row groups, depth not a multiple of 64
+                          {7, 3000, 5, uint64_t(1) << 24}};   // odd sizes: linear()
+    for (auto path : {nn::ops::GemmPath::Lanes, nn::ops::GemmPath::Tiled}) {
+        PathScope scope(path);
+        auto pool = nn::Pool::create(pg::test::gpu());
+        uint32_t seed = 40;
+        for (const Case& c : cases) {
+            INFO("M=" << c.M << " K=" << c.K << " N=" << c.N << " budget " << c.budget
+                      << (path == nn::ops::GemmPath::Lanes ? " lanes" : " tiled"));
+            auto x = ref::random_uniform(size_t(c.M * c.K), seed), w = ref::random_uniform(size_t(c.N * c.K), seed + 1);
+            seed += 2;
+            Tensor tx = nn::upload_tensor(*pool, x, {c.M, c.K}, DType::F32), tw = nn::upload_tensor(*pool, w, {c.N, c.K}, DType::F32);
+            vk::CommandList cmd(pool->context());
+            Tensor y = nn::ops::linear_deep(cmd, *pool, tx, tw, c.budget);
+            cmd.submit_and_wait();
+            CHECK(y.shape == std::vector<int64_t>{c.M, c.N});
+            check_close(nn::download_tensor<float>(pool->context(), y), ref::linear(x, w, {}, {}, c.M, c.K, c.N),
+                        ref::linear_magnitude(x, w, {}, {}, c.M, c.K, c.N), c.K);
+        }
+    }
+}
+
 TEST_CASE("linear keeps a rank-1 input rank 1 and handles empty outputs") {
     auto pool = nn::Pool::create(pg::test::gpu());
     auto x = ref::random_uniform(16, 31), w = ref::random_uniform(48, 32);
