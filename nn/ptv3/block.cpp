@@ -123,7 +123,7 @@ void Block::backward(TrainingPass& pass, Ptv3Point& grad) const {
     d = pass.layer_norm_backward(t.h2, p + ".cpe.2", dx1);
     d = pass.linear_backward(t.h1, p + ".cpe.1", d);
     pass.cmd.begin_pass("conv bwd");
-    grad::ConvGrads g = grad::sparse_conv_backward(pass.cmd, pass.pool, t.cpe_in, L.nbr3, cpe_weight(W), d);
+    grad::ConvGrads g = grad::sparse_conv_backward(pass.cmd, pass.pool, t.cpe_in, L.rules3, cpe_weight(W), d);
     pass.grads[p + ".cpe.0.weight"] = reshaped(g.dw, W[p + ".cpe.0.weight"].shape);
     pass.grads[p + ".cpe.0.bias"] = g.db;
     if (t.separate_cpe_input) {

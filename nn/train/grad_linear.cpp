@@ -4,6 +4,7 @@
 #include <string>
 
 #include "nn/ops/linear.h"
+#include "nn/ops/sparse_conv.h"
 #include "nn/train/grad_ops.h"
 #include "nn/train/grad_reduce.h"
 #include "shaders/nn/grad_shared.glsl"
@@ -98,8 +99,11 @@ LinearGrads linear_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, c
     return g;
 }
 
-ConvGrads sparse_conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& nbr, const Tensor& w,
-                               const Tensor& dy) {
+namespace {
+
+// dx through `rules` when given (the table's prebuilt rulebook), else through nbr itself.
+ConvGrads conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& nbr,
+                        const ops::Rulebook* rules, const Tensor& w, const Tensor& dy) {
     const char* op = "sparse_conv_backward";
     detail::expect(op, "x", x, DType::F32, {-1, -1});
     const int64_t P = x.dim(0), cin = x.dim(1);
@@ -114,15 +118,29 @@ ConvGrads sparse_conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x
     detail::expect_small(op, uint64_t(cout) * uint64_t(K));
     ConvGrads g;
     // Submanifold symmetry (grad_ops.h): dx[p] = sum_t W_{T-1-t}ᵀ dy[nbr[p,t]], the forward's
-    // gathered GEMM over dy with weights [Cin, T*Cout] in mirrored tap order.
-    g.dx = cout == 0 || T == 0
-               ? zeros(cmd, pool, {P, cin})
-               : ops::sparse_conv(cmd, pool, dy, nbr,
-                                  transpose_taps(cmd, pool, w, uint32_t(cout), uint32_t(cin), uint32_t(T), true), {});
+    // gathered GEMM over dy with weights [Cin, T*Cout] in mirrored tap order, over the same table.
+    if (cout == 0 || T == 0) {
+        g.dx = zeros(cmd, pool, {P, cin});
+    } else {
+        const Tensor wt = transpose_taps(cmd, pool, w, uint32_t(cout), uint32_t(cin), uint32_t(T), true);
+        g.dx = rules ? ops::sparse_conv(cmd, pool, dy, *rules, wt, {}) : ops::sparse_conv(cmd, pool, dy, nbr, wt, {});
+    }
     g.dw = weight_grad(cmd, pool, dy, x, &nbr, uint32_t(P), uint32_t(cout), uint32_t(K), uint32_t(cin), uint32_t(T));
     g.dw.shape = w.shape;
     g.db = detail::column_sums(cmd, pool, PG_COLSUM_PLAIN, dy, dy, dy, uint64_t(P), uint64_t(cout));
     return g;
+}
+
+}  // namespace
+
+ConvGrads sparse_conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& nbr, const Tensor& w,
+                               const Tensor& dy) {
+    return conv_backward(cmd, pool, x, nbr, nullptr, w, dy);
+}
+
+ConvGrads sparse_conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const ops::Rulebook& rules,
+                               const Tensor& w, const Tensor& dy) {
+    return conv_backward(cmd, pool, x, rules.nbr, &rules, w, dy);
 }
 
 }  // namespace pg::nn::grad

@@ -10,6 +10,7 @@
 #include <cstdint>
 
 #include "nn/ops/pooling.h"
+#include "nn/ops/sparse_conv.h"
 #include "nn/tensor.h"
 
 namespace pg::nn::grad {
@@ -35,6 +36,10 @@ struct ConvGrads {
 };
 ConvGrads sparse_conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& nbr, const Tensor& w,
                                const Tensor& dy);
+// The same over a prebuilt rulebook of the table (ops::build_rulebook): dx reuses the forward's
+// instead of building its own.
+ConvGrads sparse_conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const ops::Rulebook& rules,
+                               const Tensor& w, const Tensor& dy);
 
 // LayerNorm over channels (ops::layer_norm, x [M,C], biased variance, eps inside the sqrt).
 // A fused residual's gradient is dy itself.

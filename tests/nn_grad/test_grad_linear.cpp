@@ -175,6 +175,29 @@ TEST_CASE("sparse_conv backward is bit-identical across runs") {
     for (size_t i = 0; i < a.size(); ++i) CHECK(same_bits(a[i], b[i]));
 }
 
+TEST_CASE("sparse_conv backward over the table's rulebook gives the table's gradients, bit for bit") {
+    // Training passes the forward's rulebook; channels the rulebook kernels take (dy's 32 % 16)
+    // and ones they do not (16 % 16, but the forward's 8: dx's own output), both matching the reference.
+    auto pool = nn::Pool::create(pg::test::gpu());
+    for (auto [cin, cout] : {std::pair<int64_t, int64_t>{16, 32}, {8, 16}, {3, 5}}) {
+        const ConvCase c = conv_case(1500, 12, 3, true, cin, cout, 91);
+        INFO("cin " << cin << ", cout " << cout);
+        Tensor nbr = nn::upload_tensor(*pool, c.nbr, {c.P, c.T}, DType::I32);
+        Tensor x = up(*pool, c.x, {c.P, cin}), w = up(*pool, c.w, {cout, c.T * cin}), dy = up(*pool, c.dy, {c.P, cout});
+        vk::CommandList cmd(pool->context());
+        const auto rules = nn::ops::build_rulebook(cmd, *pool, nbr);
+        auto g = nn::grad::sparse_conv_backward(cmd, *pool, x, rules, w, dy);
+        cmd.submit_and_wait();
+        const auto want = gpu_conv(*pool, c, cin, cout);
+        CHECK(same_bits(down(*pool, g.dx), want[0]));
+        CHECK(same_bits(down(*pool, g.dw), want[1]));
+        CHECK(same_bits(down(*pool, g.db), want[2]));
+        const auto ref_g = gref::conv_backward(gref::to_double(c.x), c.nbr, gref::to_double(c.w), gref::to_double(c.dy),
+                                               c.P, c.T, cin, cout);
+        CHECK(gref::worst_error(down(*pool, g.dx), ref_g.dx, 1e-5) <= 1.0);
+    }
+}
+
 TEST_CASE("submanifold maps are symmetric for distinct voxels only") {
     // The GPU neighbour map of distinct voxels (what voxelize yields) is symmetric ...
     auto pool = nn::Pool::create(pg::test::gpu());
