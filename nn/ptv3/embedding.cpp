@@ -42,8 +42,9 @@ void Embedding::backward(TrainingPass& pass, Ptv3Point& grad) const {
     const Tape& t = pass.tape.embedding;
     Tensor d = norm_.backward(pass, t.norm, grad.feat);
     pass.cmd.begin_pass("conv bwd");
-    grad::ConvGrads g =
-        grad::sparse_conv_backward(pass.cmd, pass.pool, t.x, grad.structure->nbr5, conv_weight(pass.weights), d);
+    // The input features take no gradient: dw alone.
+    grad::ConvGrads g = grad::sparse_conv_backward(pass.cmd, pass.pool, t.x, grad.structure->nbr5,
+                                                   conv_weight(pass.weights), d, false);
     pass.grads[kConv] = reshaped(g.dw, pass.weights[kConv].shape);
     grad.feat = {};
 }

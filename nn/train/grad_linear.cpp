@@ -103,7 +103,7 @@ namespace {
 
 // dx through `rules` when given (the table's prebuilt rulebook), else through nbr itself.
 ConvGrads conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& nbr,
-                        const ops::Rulebook* rules, const Tensor& w, const Tensor& dy) {
+                        const ops::Rulebook* rules, const Tensor& w, const Tensor& dy, bool with_dx) {
     const char* op = "sparse_conv_backward";
     detail::expect(op, "x", x, DType::F32, {-1, -1});
     const int64_t P = x.dim(0), cin = x.dim(1);
@@ -119,7 +119,8 @@ ConvGrads conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const
     ConvGrads g;
     // Submanifold symmetry (grad_ops.h): dx[p] = sum_t W_{T-1-t}ᵀ dy[nbr[p,t]], the forward's
     // gathered GEMM over dy with weights [Cin, T*Cout] in mirrored tap order, over the same table.
-    if (cout == 0 || T == 0) {
+    if (!with_dx) {
+    } else if (cout == 0 || T == 0) {
         g.dx = zeros(cmd, pool, {P, cin});
     } else {
         const Tensor wt = transpose_taps(cmd, pool, w, uint32_t(cout), uint32_t(cin), uint32_t(T), true);
@@ -134,13 +135,13 @@ ConvGrads conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const
 }  // namespace
 
 ConvGrads sparse_conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& nbr, const Tensor& w,
-                               const Tensor& dy) {
-    return conv_backward(cmd, pool, x, nbr, nullptr, w, dy);
+                               const Tensor& dy, bool with_dx) {
+    return conv_backward(cmd, pool, x, nbr, nullptr, w, dy, with_dx);
 }
 
 ConvGrads sparse_conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const ops::Rulebook& rules,
                                const Tensor& w, const Tensor& dy) {
-    return conv_backward(cmd, pool, x, rules.nbr, &rules, w, dy);
+    return conv_backward(cmd, pool, x, rules.nbr, &rules, w, dy, true);
 }
 
 }  // namespace pg::nn::grad

@@ -35,7 +35,7 @@ struct ConvGrads {
     Tensor dx, dw, db;
 };
 ConvGrads sparse_conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tensor& nbr, const Tensor& w,
-                               const Tensor& dy);
+                               const Tensor& dy, bool with_dx = true);  // false: dx left undefined (x is an input)
 // The same over a prebuilt rulebook of the table (ops::build_rulebook): dx reuses the forward's
 // instead of building its own.
 ConvGrads sparse_conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const ops::Rulebook& rules,
