@@ -177,7 +177,7 @@ void run_segment(const SegmentArgs& args) {
     if (result.graph) {
         auto& g = *result.graph;
         report["graph"] = {{"solver", seg::graph_solver_name(g.solver)}, {"nodes", g.nodes},         {"seeds", g.seeds},         {"unreached", g.unreached}, {"unreached_components", g.unreached_components},
-                           {"iterations", g.iterations}, {"levels", g.levels}, {"jacobi_retries", g.jacobi_retries}, {"rounds", g.rounds}, {"forest_free", g.forest_free}, {"residual", g.residual}, {"cell", g.cell},
+                           {"iterations", g.iterations}, {"levels", g.levels}, {"jacobi_retries", g.jacobi_retries}, {"range_retries", g.range_retries}, {"out_of_range", g.out_of_range}, {"rounds", g.rounds}, {"forest_free", g.forest_free}, {"residual", g.residual}, {"cell", g.cell},
                            {"spacing", g.spacing},     {"k", o.graph_options.k}, {"domain", g.domain}, {"stride", g.stride}, {"margin", g.margin}, {"focused", g.focused}};
     }
     report["failed"] = failed;

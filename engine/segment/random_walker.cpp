@@ -10,6 +10,35 @@
 
 namespace pg::seg {
 
+uint64_t walk_values_outside(const std::vector<float>& columns, const std::vector<int32_t>& seed, uint32_t width,
+                             uint32_t labels, float slack) {
+    uint64_t outside = 0;
+    for (size_t i = 0; i < seed.size(); ++i) {
+        if (seed[i] != gpu::kWalkFree) continue;
+        for (uint32_t l = 0; l < labels; ++l) {
+            const float v = columns[i * width + l];
+            outside += !(v >= -slack && v <= 1.0f + slack);  // NaN too
+        }
+    }
+    return outside;
+}
+
+uint64_t clamp_walk_values(std::vector<float>& columns, const std::vector<int32_t>& seed, uint32_t width,
+                           uint32_t labels, float slack) {
+    uint64_t outside = 0;
+    for (size_t i = 0; i < seed.size(); ++i) {
+        if (seed[i] != gpu::kWalkFree) continue;
+        for (uint32_t l = 0; l < labels; ++l) {
+            float& v = columns[i * width + l];
+            if (v >= -slack && v <= 1.0f + slack) continue;
+            ++outside;
+            v = std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f);
+        }
+    }
+    return outside;
+}
+
+
 namespace {
 
 // Into `to` when `cmd` runs (one submission for all of a hierarchy's arrays).
@@ -273,6 +302,7 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
         const bool use_multigrid = o.preconditioner == WalkPreconditioner::Multigrid;
         uint32_t it = 0;
         std::vector<double> best, column;  // per column: its best (multigrid keeps that iterate) and last residual
+        std::vector<float> columns_out;    // the batch's answer, node-major, `width` per node
         for (bool jacobi_retry = false;; jacobi_retry = true) {
             cmd_.upload(x_, x0.data(), bytes);
 
@@ -400,23 +430,35 @@ WalkResult RandomWalker::solve(const KnnGraph& graph, const WalkProblem& pr, Lab
                 out.jacobi_retries += 1;
                 continue;
             }
+            // A column whose last residual is not its best answers with its best iterate.
+            double answered = 0;
+            uint32_t from_best = 0;
+            for (uint32_t l = 0; l < labels; ++l) {
+                if (multigrid && best[l] < column[l]) from_best |= 1u << l;
+                answered = std::max(answered, multigrid ? std::min(best[l], column[l]) : column[l]);
+            }
+            columns_out = vk::download_vector<float>(ctx_, x_, size_t(n) * width);
+            if (from_best) {
+                const auto kept = vk::download_vector<float>(ctx_, best_x_, size_t(n) * width);
+                for (uint32_t i = 0; i < n; ++i)
+                    for (uint32_t l = 0; l < labels; ++l)
+                        if (from_best >> l & 1u) columns_out[size_t(i) * width + l] = kept[size_t(i) * width + l];
+            }
+            // The maximum principle: every value is a probability. A solve whose residual test
+            // passed may still break it grossly where a weakly joined piece makes the operator
+            // nearly singular (multigrid left values of 1e14 there, its residual small):
+            // multigrid's answer is then solved again with Jacobi; what is still that far off is
+            // clamped and counted. The stop rule's own slack (hundredths) is left as it is.
+            const uint64_t outside = walk_values_outside(columns_out, pr.seed, width, labels);
+            if (outside && multigrid) {
+                out.jacobi_retries += 1;
+                out.range_retries += 1;
+                continue;
+            }
+            if (outside) out.out_of_range += clamp_walk_values(columns_out, pr.seed, width, labels);
+            out.iterations = std::max(out.iterations, it);
+            out.residual = std::max(out.residual, answered);
             break;
-        }
-        // A column whose last residual is not its best answers with its best iterate.
-        double answered = 0;
-        uint32_t from_best = 0;
-        for (uint32_t l = 0; l < labels; ++l) {
-            if (multigrid && best[l] < column[l]) from_best |= 1u << l;
-            answered = std::max(answered, multigrid ? std::min(best[l], column[l]) : column[l]);
-        }
-        out.iterations = std::max(out.iterations, it);
-        out.residual = std::max(out.residual, answered);
-        auto columns_out = vk::download_vector<float>(ctx_, x_, size_t(n) * width);
-        if (from_best) {
-            const auto kept = vk::download_vector<float>(ctx_, best_x_, size_t(n) * width);
-            for (uint32_t i = 0; i < n; ++i)
-                for (uint32_t l = 0; l < labels; ++l)
-                    if (from_best >> l & 1u) columns_out[size_t(i) * width + l] = kept[size_t(i) * width + l];
         }
         answer.write(base, labels, width, columns_out);
     }

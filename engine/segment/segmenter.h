@@ -148,6 +148,8 @@ struct GraphReport {
     uint32_t iterations = 0;     // the walk's conjugate-gradient iterations
     uint32_t levels = 0;         // the walk's multigrid levels (0: Jacobi preconditioner)
     uint32_t jacobi_retries = 0; // column batches multigrid made no progress on, solved again with Jacobi
+    uint32_t range_retries = 0;  // of those, batches whose answer left [0, 1] (the maximum principle)
+    uint64_t out_of_range = 0;   // walk values still outside [0, 1] after Jacobi, clamped
     uint32_t rounds = 0;         // the forest's relaxation rounds on the GPU (0: flooded on the host)
     size_t forest_free = 0;      // nodes the forest had to label (no seed, the walk not sure)
     double residual = 0, cell = 0, spacing = 0;

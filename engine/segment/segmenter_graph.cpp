@@ -662,6 +662,8 @@ void Segmenter::solve_decimated(const SegmentOptions& o, std::vector<ObjectResul
         report.iterations = cs.walk.iterations;
         report.levels = cs.walk.levels;
         report.jacobi_retries = cs.walk.jacobi_retries;
+        report.range_retries = cs.walk.range_retries;
+        report.out_of_range = cs.walk.out_of_range;
         report.residual = cs.walk.residual;
     }
     const Subsample solved = label_subsample(cs.problem, cs.x, report);
@@ -955,6 +957,8 @@ void Segmenter::solve_walk(const SegmentOptions& o, std::vector<ObjectResult*>& 
     report.iterations = solution.iterations;
     report.levels = solution.levels;
     report.jacobi_retries = solution.jacobi_retries;
+    report.range_retries = solution.range_retries;
+    report.out_of_range = solution.out_of_range;
     // Parts of "graph solve": the host's multigrid hierarchy, the walk's GPU passes.
     if (solution.levels) result.stage_ms["graph hierarchy"] += solution.hierarchy_ms;
     for (const auto& t : walker_.timings()) result.stage_ms["graph walk gpu"] += t.ms;

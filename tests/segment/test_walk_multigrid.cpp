@@ -489,3 +489,74 @@ TEST_CASE("walk hierarchy: a component that no seed or unary term anchors leaves
     for (uint32_t i = 4; i < 8; ++i) CHECK(a.diagonal[i] == 0.0f);
     CHECK(a.diagonal[8] == 0.0f);  // was already out
 }
+
+TEST_CASE("walk: values far outside [0, 1] are found, solved again with Jacobi, and what stays outside is clamped and counted") {
+    // The maximum principle, checked on a hand-made answer: seeds and in-range values pass, a
+    // value past the slack or NaN does not.
+    {
+        const std::vector<int32_t> seed = {-1, 0, -1};
+        std::vector<float> columns = {1.04f, -0.04f, 0.0f, 0.0f,   // free, within the slack
+                                      7.0f, -3.0f, 0.0f, 0.0f,     // a seed: not checked
+                                      1.2f, NAN, 0.5f, -0.1f};     // free: 1.2 and NaN; -0.1 in an unused column
+        CHECK(seg::walk_values_outside(columns, seed, 4, 3) == 1);  // the solver's slack, 1: NaN only
+        CHECK(seg::walk_values_outside(columns, seed, 4, 3, 0.05f) == 2);
+        CHECK(seg::clamp_walk_values(columns, seed, 4, 3, 0.05f) == 2);
+        CHECK(columns[8] == 1.0f);
+        CHECK(columns[9] == 0.0f);
+        CHECK(columns[0] == 1.04f);  // inside the slack: left as it is
+        CHECK(seg::walk_values_outside(columns, seed, 4, 3, 0.05f) == 0);
+    }
+    // In a solve: a piece no seed reaches keeps its start, here 1e6 (a start the walk cannot
+    // correct; multigrid's small residual does not see it). Multigrid's answer is solved again
+    // with Jacobi, which keeps it too; it is clamped and counted, and the reached nodes hold the
+    // reference's answer.
+    auto& ctx = test::gpu();
+    seg::RandomWalker walker(ctx);
+    data::GaussianCloud cloud = ref::random_scene(22, 1500, 0).cloud;
+    const uint32_t main_n = uint32_t(cloud.size()), far_n = 40;
+    cloud.resize(main_n + far_n);
+    for (uint32_t i = 0; i < far_n; ++i) {
+        const uint32_t j = main_n + i;
+        cloud.mean[j] = cloud.mean[i] + glm::vec3(1000.0f, 0.0f, 0.0f);
+        cloud.log_scale[j] = cloud.log_scale[i];
+        cloud.rotation[j] = cloud.rotation[i];
+        cloud.opacity_logit[j] = cloud.opacity_logit[i];
+        for (int c = 0; c < 3 * cloud.coeffs(); ++c) cloud.sh[size_t(j) * 3 * cloud.coeffs() + c] = cloud.sh[size_t(i) * 3 * cloud.coeffs() + c];
+    }
+    render::GpuScene gpu(ctx, cloud);
+    seg::KnnGraph graph(ctx);
+    auto domain = all_of(cloud);
+    graph.build(gpu, cloud, domain, seg::GraphOptions{});
+    const uint32_t n = uint32_t(domain.size()), labels = 3;
+    seg::WalkProblem pr;
+    pr.labels = labels;
+    pr.seed.assign(n, -1);
+    ref::Rng rng(9);
+    for (uint32_t l = 0; l < labels; ++l)
+        for (int s = 0; s < 3; ++s) pr.seed[rng.below(main_n)] = int32_t(l);
+    pr.start.assign(size_t(n) * labels, 0.0f);
+    for (uint32_t i = main_n; i < n; ++i)
+        for (uint32_t l = 0; l < labels; ++l) pr.start[size_t(i) * labels + l] = 1e6f;
+    seg::WalkOptions wo;
+    wo.tolerance = 1e-5f;
+    wo.max_iterations = 4000;
+    const auto got = walker.solve(graph, pr, wo);
+    CHECK(got.levels >= 2);  // multigrid answered first
+    CHECK(got.range_retries == 1);
+    CHECK(got.out_of_range == uint64_t(far_n) * labels);
+    for (float v : got.x) CHECK((v >= 0.0f && v <= 1.0f));
+    ref::RefGraph rg;
+    rg.k = graph.k();
+    rg.neighbours = graph.neighbours();
+    rg.weights = graph.weights();
+    const auto want = ref::random_walk(rg, labels, pr.seed, pr.gamma, pr.prior);
+    double worst = 0;
+    for (size_t i = 0; i < size_t(main_n) * labels; ++i) worst = std::max(worst, std::abs(double(got.x[i]) - want[i]));
+    CHECK(worst < 2e-3);
+    // A start in range: nothing to retry or clamp.
+    for (uint32_t i = main_n; i < n; ++i)
+        for (uint32_t l = 0; l < labels; ++l) pr.start[size_t(i) * labels + l] = 0.0f;
+    const auto clean = walker.solve(graph, pr, wo);
+    CHECK(clean.range_retries == 0);
+    CHECK(clean.out_of_range == 0);
+}
