@@ -21,6 +21,12 @@ shared uint s_runs[kBlendGroup];  // by batch position: which runs the support r
 shared uint s_run_list[kRuns * (kBlendGroup / 4u)];
 shared uint s_run_count[kRuns];
 
+// Pixel r (0 .. PG_RUN_ROWS - 1) of this invocation, in the image.
+uvec2 tile_runs_pixel(uint r) {
+    const uint lid = gl_LocalInvocationIndex;
+    return gl_WorkGroupID.xy * kTileSize + uvec2(lid % kTileSize, (lid / kTileSize) * PG_RUN_ROWS + r);
+}
+
 // The runs of the tile with pixel origin `origin` that splat `sp`'s support ellipse reaches.
 uint tile_runs_reached(Splat sp, uvec2 origin) {
     uint runs = 0u;

@@ -178,7 +178,7 @@ void main() {
     PixelLabels px[PG_RUN_ROWS];
     uint done_here = 0u;
     [[unroll]] for (uint r = 0u; r < PG_RUN_ROWS; ++r) {
-        pix[r] = gl_WorkGroupID.xy * kTileSize + uvec2(lid % kTileSize, (lid / kTileSize) * PG_RUN_ROWS + r);
+        pix[r] = tile_runs_pixel(r);
         center[r] = vec2(pix[r]) + 0.5;
         inside[r] = pix[r].x < width && pix[r].y < height;
         px[r] = labels_start(inside[r], (pix[r].y * width + pix[r].x) * kLabelCarryWords, tw, flags);
