@@ -4,40 +4,43 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 #include "dataset/error.h"
 #include "shaders/segment/graph_shared.h"
 
 namespace pg::seg {
 
-uint64_t walk_values_outside(const std::vector<float>& columns, const std::vector<int32_t>& seed, uint32_t width,
-                             uint32_t labels, float slack) {
+namespace {
+
+// Free nodes' values outside [-slack, 1 + slack] or NaN, clamped into [0, 1] (NaN to 0) when the
+// columns may change.
+template <class Columns>
+uint64_t visit_outside(Columns& columns, const std::vector<int32_t>& seed, uint32_t width, uint32_t labels, float slack) {
     uint64_t outside = 0;
     for (size_t i = 0; i < seed.size(); ++i) {
         if (seed[i] != gpu::kWalkFree) continue;
         for (uint32_t l = 0; l < labels; ++l) {
-            const float v = columns[i * width + l];
-            outside += !(v >= -slack && v <= 1.0f + slack);  // NaN too
+            auto& v = columns[i * width + l];
+            if (v >= -slack && v <= 1.0f + slack) continue;  // false for NaN
+            ++outside;
+            if constexpr (!std::is_const_v<Columns>) v = std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f);
         }
     }
     return outside;
+}
+
+}  // namespace
+
+uint64_t walk_values_outside(const std::vector<float>& columns, const std::vector<int32_t>& seed, uint32_t width,
+                             uint32_t labels, float slack) {
+    return visit_outside(columns, seed, width, labels, slack);
 }
 
 uint64_t clamp_walk_values(std::vector<float>& columns, const std::vector<int32_t>& seed, uint32_t width,
                            uint32_t labels, float slack) {
-    uint64_t outside = 0;
-    for (size_t i = 0; i < seed.size(); ++i) {
-        if (seed[i] != gpu::kWalkFree) continue;
-        for (uint32_t l = 0; l < labels; ++l) {
-            float& v = columns[i * width + l];
-            if (v >= -slack && v <= 1.0f + slack) continue;
-            ++outside;
-            v = std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f);
-        }
-    }
-    return outside;
+    return visit_outside(columns, seed, width, labels, slack);
 }
-
 
 namespace {
 

@@ -79,10 +79,13 @@ uint32_t flags_of(const Gemm& g) {
            (g.nbr ? PG_GEMM_GATHER : 0u) | (g.gelu ? PG_GEMM_GELU : 0u);
 }
 
+// Rows per workgroup of the lanes kernels: fewer idle lanes for short matrices.
+uint32_t lanes_rows(uint64_t M) { return M <= 128 ? 64 : 256; }
+
 // lanes: one dispatch per depth chunk of 64 (32 for a short last one), each accumulating in y.
 // Returns false when GELU is still to be applied (the common variants have it built in).
 bool run_lanes(vk::CommandList& cmd, const Gemm& g, const Tensor& y) {
-    const uint32_t wg = g.M <= 128 ? 64 : 256;  // fewer idle lanes for short matrices
+    const uint32_t wg = lanes_rows(g.M);
     const bool a_vec = g.K % 8 == 0 && g.K > 0 && (g.nbr ? g.cin % 32 == 0 : g.cin % 8 == 0);
     const bool y_vec = g.N % 8 == 0;
     const bool fused_gelu = g.gelu && a_vec && y_vec;  // the variants that exist (kLanesVariants)
@@ -203,7 +206,7 @@ Tensor linear_deep(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Tens
     // starts at chunk s * per, so `slices` partial sums cover the depth.
     const uint64_t per = ceil_div(ceil_div(K, kc), slices);
     const uint64_t used = ceil_div(ceil_div(K, kc), per);
-    const uint32_t wg = M <= 128 ? 64 : 256;
+    const uint32_t wg = lanes_rows(M);
     const char* shader = wg == 64 ? "nn/linear_lanes_w64_k64_avec_yvec_split" : "nn/linear_lanes_w256_k64_avec_yvec_split";
     Tensor part = pool.empty({int64_t(used), int64_t(M), int64_t(N)});
     gpu::GemmPush push{uint32_t(M), uint32_t(N), uint32_t(K), 0, 0, uint32_t(K), 1, ceil_div(uint32_t(N), PG_LANES_NC),

@@ -119,10 +119,9 @@ ConvGrads conv_backward(vk::CommandList& cmd, Pool& pool, const Tensor& x, const
     ConvGrads g;
     // Submanifold symmetry (grad_ops.h): dx[p] = sum_t W_{T-1-t}ᵀ dy[nbr[p,t]], the forward's
     // gathered GEMM over dy with weights [Cin, T*Cout] in mirrored tap order, over the same table.
-    if (!with_dx) {
-    } else if (cout == 0 || T == 0) {
+    if (with_dx && (cout == 0 || T == 0)) {
         g.dx = zeros(cmd, pool, {P, cin});
-    } else {
+    } else if (with_dx) {
         const Tensor wt = transpose_taps(cmd, pool, w, uint32_t(cout), uint32_t(cin), uint32_t(T), true);
         g.dx = rules ? ops::sparse_conv(cmd, pool, dy, *rules, wt, {}) : ops::sparse_conv(cmd, pool, dy, nbr, wt, {});
     }

@@ -64,6 +64,15 @@ std::vector<double> dense(const seg::WalkMatrix& a) {
     return m;
 }
 
+// The reference's copy of a GPU graph.
+ref::RefGraph ref_graph(const seg::KnnGraph& graph) {
+    ref::RefGraph rg;
+    rg.k = graph.k();
+    rg.neighbours = graph.neighbours();
+    rg.weights = graph.weights();
+    return rg;
+}
+
 std::vector<uint32_t> all_of(const data::GaussianCloud& cloud) {
     std::vector<uint32_t> d(cloud.size());
     for (uint32_t i = 0; i < d.size(); ++i) d[i] = i;
@@ -340,10 +349,7 @@ TEST_CASE("walk multigrid: the preconditioned walk matches Eigen's, on a long gr
         seg::KnnGraph graph(ctx);
         auto domain = all_of(c.cloud);
         graph.build(gpu, c.cloud, domain, seg::GraphOptions{});
-        ref::RefGraph rg;
-        rg.k = graph.k();
-        rg.neighbours = graph.neighbours();
-        rg.weights = graph.weights();
+        const ref::RefGraph rg = ref_graph(graph);
         const uint32_t labels = c.labels, n = uint32_t(domain.size());
         seg::WalkProblem pr;
         pr.labels = labels;
@@ -439,10 +445,7 @@ TEST_CASE("walk multigrid: a nearly singular walk (few seeds in a large graph) c
     auto at = [](int x, int y, int z) { return uint32_t((x * 96 + y) * 4 + z); };
     pr.seed[at(3, 3, 0)] = 0, pr.seed[at(3, 3, 1)] = 0;
     pr.seed[at(92, 90, 2)] = 1;
-    ref::RefGraph rg;
-    rg.k = graph.k();
-    rg.neighbours = graph.neighbours();
-    rg.weights = graph.weights();
+    const ref::RefGraph rg = ref_graph(graph);
     const auto want = ref::random_walk(rg, labels, pr.seed, {}, {});
     auto worst_of = [&](const seg::WalkResult& got) {
         double worst = 0;
@@ -545,10 +548,7 @@ TEST_CASE("walk: values far outside [0, 1] are found, solved again with Jacobi, 
     CHECK(got.range_retries == 1);
     CHECK(got.out_of_range == uint64_t(far_n) * labels);
     for (float v : got.x) CHECK((v >= 0.0f && v <= 1.0f));
-    ref::RefGraph rg;
-    rg.k = graph.k();
-    rg.neighbours = graph.neighbours();
-    rg.weights = graph.weights();
+    const ref::RefGraph rg = ref_graph(graph);
     const auto want = ref::random_walk(rg, labels, pr.seed, pr.gamma, pr.prior);
     double worst = 0;
     for (size_t i = 0; i < size_t(main_n) * labels; ++i) worst = std::max(worst, std::abs(double(got.x[i]) - want[i]));
