@@ -16,10 +16,14 @@ void require(bool ok, const std::string& what) {
 }
 
 constexpr AttentionShaders kAttentionShaders[] = {
-    {8, "nn/attention_d8", "nn/attention_cpu_d8", "nn/grad_attention_dq_d8", "nn/grad_attention_dkv_d8"},
-    {16, "nn/attention_d16", "nn/attention_cpu_d16", "nn/grad_attention_dq_d16", "nn/grad_attention_dkv_d16"},
-    {32, "nn/attention_d32", "nn/attention_cpu_d32", "nn/grad_attention_dq_d32", "nn/grad_attention_dkv_d32"},
-    {64, "nn/attention_d64", "nn/attention_cpu_d64", "nn/grad_attention_dq_d64", "nn/grad_attention_dkv_d64"},
+    {8, "nn/attention_d8", "nn/attention_cpu_d8", "nn/grad_attention_dq_d8", "nn/grad_attention_dkv_d8",
+     "nn/grad_attention_cpu_dq_d8", "nn/grad_attention_cpu_dkv_d8"},
+    {16, "nn/attention_d16", "nn/attention_cpu_d16", "nn/grad_attention_dq_d16", "nn/grad_attention_dkv_d16",
+     "nn/grad_attention_cpu_dq_d16", "nn/grad_attention_cpu_dkv_d16"},
+    {32, "nn/attention_d32", "nn/attention_cpu_d32", "nn/grad_attention_dq_d32", "nn/grad_attention_dkv_d32",
+     "nn/grad_attention_cpu_dq_d32", "nn/grad_attention_cpu_dkv_d32"},
+    {64, "nn/attention_d64", "nn/attention_cpu_d64", "nn/grad_attention_dq_d64", "nn/grad_attention_dkv_d64",
+     "nn/grad_attention_cpu_dq_d64", "nn/grad_attention_cpu_dkv_d64"},
 };
 
 }  // namespace

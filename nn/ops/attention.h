@@ -34,6 +34,8 @@ struct AttentionShaders {
     const char* cpu;  // forward, AttentionKernel::Cpu
     const char* dq;   // backward: dq and the softmax statistics
     const char* dkv;  // backward: dk, dv
+    const char* cpu_dq;   // backward for CPU drivers: the same, many positions per invocation
+    const char* cpu_dkv;
 };
 const AttentionShaders* attention_shaders(int64_t head_dim);
 

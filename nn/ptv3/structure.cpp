@@ -48,7 +48,9 @@ Ptv3Structure build_structure(vk::CommandList& cmd, Pool& pool, const Ptv3Config
     Tensor grid_t = upload_tensor(pool, grid, {n, 3}, DType::I32);
     Tensor batch_t = upload_tensor(pool, batch, {n}, DType::I32);
     cmd.begin_pass("voxelize");
-    st.vox = ops::voxelize(cmd, pool, grid_t, batch_t);
+    // Key bits of (batch, x, y, z) at a level's depth: the sorts pass over these digits only.
+    auto grid_key_bits = [&](int depth) { return std::max(1, 3 * depth + batch_bits); };
+    st.vox = ops::voxelize(cmd, pool, grid_t, batch_t, grid_key_bits(bit_length(uint64_t(max_grid))));
     collect();
 
     auto make_offsets = [&](Ptv3Level& L) {
@@ -62,11 +64,11 @@ Ptv3Structure build_structure(vk::CommandList& cmd, Pool& pool, const Ptv3Config
     };
     auto sort_level = [&](Ptv3Level& L) {
         cmd.begin_pass("serialize");
-        const int key_bits = std::max(1, 3 * L.depth + batch_bits);
+        const int key_bits = grid_key_bits(L.depth);  // codes hold the batch above 3 x depth bits too
         L.sorted.clear();
         for (size_t k = 0; k < kinds; ++k) L.sorted.push_back(ops::sort_codes(cmd, pool, L.codes[k], key_bits));
         cmd.begin_pass("neighbors");
-        L.nbr3 = ops::neighbor_map(cmd, pool, L.grid, L.batch, 3);
+        L.nbr3 = ops::neighbor_map(cmd, pool, L.grid, L.batch, 3, key_bits);
         L.rules3 = ops::build_rulebook(cmd, pool, L.nbr3);
         make_offsets(L);
     };
@@ -94,14 +96,14 @@ Ptv3Structure build_structure(vk::CommandList& cmd, Pool& pool, const Ptv3Config
             L.codes.push_back(ops::serialize_codes(cmd, pool, L.grid, L.batch, order_kind(c.order[k]), L.depth));
         sort_level(L);
         cmd.begin_pass("neighbors");
-        st.nbr5 = ops::neighbor_map(cmd, pool, L.grid, L.batch, 5);
+        st.nbr5 = ops::neighbor_map(cmd, pool, L.grid, L.batch, 5, grid_key_bits(L.depth));
     }
     for (int s = 1; s < c.stages(); ++s) {
         Ptv3Level& P = st.levels[size_t(s - 1)];
         Ptv3Level& L = st.levels[size_t(s)];
         const int shift = bit_length(uint64_t(c.stride[size_t(s - 1)] - 1));
         cmd.begin_pass("pool");
-        L.clusters = ops::pool_clusters(cmd, pool, P.codes[size_t(P.rows[0])], 3 * shift);
+        L.clusters = ops::pool_clusters(cmd, pool, P.codes[size_t(P.rows[0])], 3 * shift, grid_key_bits(P.depth));
         collect();
         L.n = L.clusters.count;
         L.depth = P.depth - shift;

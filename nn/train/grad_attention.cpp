@@ -7,12 +7,20 @@
 #include "engine/vk/context.h"
 #include "nn/ops/attention.h"
 #include "nn/train/grad_reduce.h"
+#include "shaders/nn/attention_config.glsl"
 #include "shaders/nn/grad_attention_config.glsl"
 
 namespace pg::nn::grad {
 
 Tensor window_attention_backward(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, const Tensor& order,
                                  const Tensor& offsets, int heads, int patch, float scale, const Tensor& dout) {
+    return window_attention_backward(cmd, pool, qkv, order, offsets, heads, patch, scale, dout,
+                                     ops::AttentionKernel::Auto);
+}
+
+Tensor window_attention_backward(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, const Tensor& order,
+                                 const Tensor& offsets, int heads, int patch, float scale, const Tensor& dout,
+                                 ops::AttentionKernel kernel) {
     const char* op = "window_attention_backward";
     auto require = [op](bool ok, const std::string& what) {
         if (!ok) throw std::invalid_argument(std::string(op) + ": " + what);
@@ -54,6 +62,20 @@ Tensor window_attention_backward(vk::CommandList& cmd, Pool& pool, const Tensor&
     cmd.dispatch("nn/grad_attention_gather", {qkv, order, dout, gathered}, push,
                  vk::ceil_div(uint64_t(gathered.numel() / 4), PG_GRAD_ATTN_THREADS));
     Tensor stats = pool.empty({heads, n, 2}, DType::F32);
+    const bool cpu = kernel == ops::AttentionKernel::Auto
+                         ? pool.context().info().type == VK_PHYSICAL_DEVICE_TYPE_CPU
+                         : kernel == ops::AttentionKernel::Cpu;
+    if (cpu) {
+        // Workgroups: heads x windows (numbered floor(offsets[b] / K) + b + local, an upper
+        // bound) x blocks per window; numbers past a cloud's windows return at once.
+        const int64_t block = PG_ATTN_CPU_THREADS * PG_GRAD_ATTN_CPU_ROWS(head_dim);
+        push.windows = uint32_t(n / patch + int64_t(push.clouds));
+        push.subs = uint32_t((patch + block - 1) / block);
+        const uint64_t groups = uint64_t(heads) * push.windows * push.subs;
+        cmd.dispatch(kernels->cpu_dq, {gathered, order, offsets, stats, dqkv}, push, groups);
+        cmd.dispatch(kernels->cpu_dkv, {gathered, order, offsets, stats, dqkv}, push, groups);
+        return dqkv;
+    }
     const uint32_t groups = vk::ceil_div(uint64_t(heads) * uint64_t(n), PG_GRAD_ATTN_THREADS);
     cmd.dispatch(kernels->dq, {gathered, order, offsets, stats, dqkv}, push, groups);
     cmd.dispatch(kernels->dkv, {gathered, order, offsets, stats, dqkv}, push, groups);

@@ -5,6 +5,7 @@
 // each window's softmax (logsumexp and out), keeps D_i = dout_i . out_i and writes dq; a per-key
 // pass recomputes the probabilities from q, k and the logsumexp and writes dk, dv. Every sum runs
 // in a fixed order (no float atomics), so reruns on one device are bit-identical.
+#include "nn/ops/attention.h"
 #include "nn/tensor.h"
 
 namespace pg::nn::grad {
@@ -19,5 +20,11 @@ namespace pg::nn::grad {
 // the two contributions are added in that order.
 Tensor window_attention_backward(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, const Tensor& order,
                                  const Tensor& offsets, int heads, int patch, float scale, const Tensor& dout);
+// The same with the kernels chosen: Gpu gives each invocation one position, Cpu (for CPU
+// drivers, needs shaderInt64) a block of one window's positions, so each load serves several;
+// Auto picks by device type. Tests run both.
+Tensor window_attention_backward(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, const Tensor& order,
+                                 const Tensor& offsets, int heads, int patch, float scale, const Tensor& dout,
+                                 ops::AttentionKernel kernel);
 
 }  // namespace pg::nn::grad

@@ -21,7 +21,7 @@ using uint = uint32_t;
 #define PG_INFO_COUNT 5  // distinct keys, written by the prefix sum
 #define PG_INFO_WORDS 8
 #define PG_FLAG_NEGATIVE 1u  // a grid or batch entry is negative
-#define PG_FLAG_OVERFLOW 2u  // the widths of batch, x, y, z add up to more than 64 bits
+#define PG_FLAG_OVERFLOW 2u  // the widths of batch, x, y, z add up to more than the key's bits
 
 // nn/serialize_codes
 struct SerializePush {
@@ -35,6 +35,13 @@ struct SerializePush {
 struct CountPush {
     uint n;
     uint pad0, pad1, pad2;
+};
+
+// nn/voxel_keys: n points, and the bits the caller sorts (64 when it knows no smaller bound).
+struct KeyPush {
+    uint n;
+    uint key_bits;
+    uint pad0, pad1;
 };
 
 // nn/serialize_keys, nn/pool_codes, nn/pool_grid: n rows, a right shift, a row width.

@@ -55,13 +55,15 @@ Case make_case(const std::vector<int32_t>& clouds, int heads, int head_dim, int 
     return c;
 }
 
-std::vector<float> gpu_backward(nn::Pool& pool, const Case& c) {
+std::vector<float> gpu_backward(nn::Pool& pool, const Case& c,
+                                nn::ops::AttentionKernel kernel = nn::ops::AttentionKernel::Auto) {
     Tensor qkv = nn::upload_tensor(pool, c.qkv, {c.n, 3 * c.channels}, DType::F32);
     Tensor order = nn::upload_tensor(pool, c.order, {c.n}, DType::I32);
     Tensor offsets = nn::upload_tensor(pool, c.offsets, {int64_t(c.offsets.size())}, DType::I32);
     Tensor dout = nn::upload_tensor(pool, c.dout, {c.n, c.channels}, DType::F32);
     vk::CommandList cmd(pool.context());
-    Tensor dqkv = nn::grad::window_attention_backward(cmd, pool, qkv, order, offsets, c.heads, c.patch, c.scale, dout);
+    Tensor dqkv = nn::grad::window_attention_backward(cmd, pool, qkv, order, offsets, c.heads, c.patch, c.scale, dout,
+                                                     kernel);
     cmd.submit_and_wait();
     CHECK(dqkv.shape == std::vector<int64_t>{c.n, 3 * c.channels});
     return nn::download_tensor<float>(pool.context(), dqkv);
@@ -119,7 +121,10 @@ TEST_CASE("window attention backward: CPU reference matches finite differences")
     }
 }
 
-TEST_CASE("window attention backward: GPU matches the CPU reference") {
+const char* kernel_name(nn::ops::AttentionKernel k) { return k == nn::ops::AttentionKernel::Cpu ? "cpu" : "gpu"; }
+constexpr nn::ops::AttentionKernel kKernels[] = {nn::ops::AttentionKernel::Gpu, nn::ops::AttentionKernel::Cpu};
+
+TEST_CASE("window attention backward: GPU matches the CPU reference, both kernels") {
     auto pool = nn::Pool::create(pg::test::gpu());
     struct Shape {
         std::vector<int32_t> clouds;
@@ -133,22 +138,30 @@ TEST_CASE("window attention backward: GPU matches the CPU reference") {
         {{130, 33}, 1, 32, 32},
         {{90, 20}, 2, 64, 24},
         {{2000, 1100}, 2, 16, 1024},            // PTv3's patch: n < K and a pulled-back window
+        {{200, 48, 49, 5, 97}, 2, 8, 48},       // the tiny config's head and patch: blocks of part of a window
     };
     uint32_t seed = 100;
     for (const Shape& s : shapes) {
         const Case c = make_case(s.clouds, s.heads, s.head_dim, s.patch, seed += 10);
         INFO("N=" << c.n << " H=" << s.heads << " D=" << s.head_dim << " K=" << s.patch);
-        // Per element: |got - want| <= 1e-5 * (1 + |want|).
-        CHECK(gref::worst_error(gpu_backward(*pool, c), ref_backward(c), 1e-5) <= 1.0);
+        const gref::Vec want = ref_backward(c);
+        for (nn::ops::AttentionKernel k : kKernels) {
+            INFO("kernel " << kernel_name(k));
+            // Per element: |got - want| <= 1e-5 * (1 + |want|).
+            CHECK(gref::worst_error(gpu_backward(*pool, c, k), want, 1e-5) <= 1.0);
+        }
     }
 }
 
 TEST_CASE("window attention backward: reruns are bit-identical") {
     auto pool = nn::Pool::create(pg::test::gpu());
     const Case c = make_case({700, 301, 5}, 2, 16, 128, 7);
-    const auto a = gpu_backward(*pool, c), b = gpu_backward(*pool, c);
-    REQUIRE(a.size() == b.size());
-    CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0);
+    for (nn::ops::AttentionKernel k : kKernels) {
+        INFO("kernel " << kernel_name(k));
+        const auto a = gpu_backward(*pool, c, k), b = gpu_backward(*pool, c, k);
+        REQUIRE(a.size() == b.size());
+        CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0);
+    }
 }
 
 TEST_CASE("window attention backward: PTv3 size runs (N=8192 C=32 H=2 K=1024)") {

@@ -16,13 +16,13 @@ namespace ref = pg::test::ref;
 
 namespace {
 
-void check_neighbors(nn::Pool& pool, const ref::Cloud& c, int kernel) {
-    INFO("n = " << c.size() << ", kernel " << kernel);
+void check_neighbors(nn::Pool& pool, const ref::Cloud& c, int kernel, int key_bits = 64) {
+    INFO("n = " << c.size() << ", kernel " << kernel << ", key bits " << key_bits);
     const int64_t n = int64_t(c.size());
     nn::Tensor grid = nn::upload_tensor(pool, c.grid, {n, 3}, DType::I32);
     nn::Tensor batch = nn::upload_tensor(pool, c.batch, {n}, DType::I32);
     vk::CommandList cmd(pool.context());
-    nn::Tensor nbr = nn::ops::neighbor_map(cmd, pool, grid, batch, kernel);
+    nn::Tensor nbr = nn::ops::neighbor_map(cmd, pool, grid, batch, kernel, key_bits);
     cmd.submit_and_wait();
     CHECK(nbr.shape == std::vector<int64_t>{n, int64_t(kernel) * kernel * kernel});
     std::vector<int32_t> got = nn::download_tensor<int32_t>(pool.context(), nbr);
@@ -66,6 +66,10 @@ TEST_CASE("neighbors: GPU maps equal the reference for kernels 3 and 5") {
             // Blobs may overlap: keep each voxel once.
             ref::Voxels v = ref::voxelize(all.grid, all.batch);
             check_neighbors(*pool, ref::Cloud{v.grid, v.batch}, kernel);
+        }
+        SECTION("the caller's exact key bits (fewer radix passes), kernel " + std::to_string(kernel)) {
+            const ref::Cloud c = ref::random_cloud(3000, 3, 40, 12, true);
+            check_neighbors(*pool, c, kernel, ref::grid_key_bits(c));
         }
     }
 }

@@ -14,13 +14,13 @@ namespace ref = pg::test::ref;
 
 namespace {
 
-void check_voxelize(nn::Pool& pool, const ref::Cloud& c) {
-    INFO("n = " << c.size());
+void check_voxelize(nn::Pool& pool, const ref::Cloud& c, int key_bits = 64) {
+    INFO("n = " << c.size() << ", key bits " << key_bits);
     const int64_t n = int64_t(c.size());
     nn::Tensor grid = nn::upload_tensor(pool, c.grid, {n, 3}, DType::I32);
     nn::Tensor batch = nn::upload_tensor(pool, c.batch, {n}, DType::I32);
     vk::CommandList cmd(pool.context());
-    nn::ops::Voxels v = nn::ops::voxelize(cmd, pool, grid, batch);
+    nn::ops::Voxels v = nn::ops::voxelize(cmd, pool, grid, batch, key_bits);
     ref::Voxels expect = ref::voxelize(c.grid, c.batch);
     REQUIRE(v.count == int64_t(expect.first.size()));
     CHECK(v.grid.shape == std::vector<int64_t>{v.count, 3});
@@ -51,6 +51,10 @@ TEST_CASE("voxelize: GPU voxels equal the reference") {
         check_voxelize(*pool, c);
     }
     SECTION("distinct voxels keep their count") { check_voxelize(*pool, ref::random_cloud(4099, 2, 40, 4, true)); }
+    SECTION("the caller's exact key bits (fewer radix passes)") {
+        const ref::Cloud c = ref::random_cloud(5000, 3, 300, 2, false);
+        check_voxelize(*pool, c, ref::grid_key_bits(c));
+    }
 }
 
 TEST_CASE("voxelize: empty input and bad entries") {
@@ -68,4 +72,10 @@ TEST_CASE("voxelize: empty input and bad entries") {
     nn::Tensor wide = nn::upload_tensor(*pool, std::vector<int32_t>{big, big, big}, {1, 3}, DType::I32);
     nn::Tensor b1 = nn::upload_tensor(*pool, std::vector<int32_t>{200}, {1}, DType::I32);
     CHECK_THROWS_AS(nn::ops::voxelize(cmd, *pool, wide, b1), std::invalid_argument);
+    // A bound one bit short of the widths is refused, not sorted wrongly.
+    const ref::Cloud c = ref::random_cloud(500, 2, 300, 5, false);
+    const int64_t n = int64_t(c.size());
+    nn::Tensor g = nn::upload_tensor(*pool, c.grid, {n, 3}, DType::I32), b = nn::upload_tensor(*pool, c.batch, {n}, DType::I32);
+    CHECK_THROWS_AS(nn::ops::voxelize(cmd, *pool, g, b, ref::grid_key_bits(c) - 1), std::invalid_argument);
+    CHECK_THROWS_AS(nn::ops::voxelize(cmd, *pool, g, b, 65), std::invalid_argument);
 }

@@ -2,12 +2,24 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <map>
 #include <numeric>
 #include <random>
 #include <set>
 
 namespace pg::test::ref {
+
+int grid_key_bits(const Cloud& c) {
+    int32_t most[4] = {0, 0, 0, 0};
+    for (size_t i = 0; i < c.size(); ++i) {
+        for (int a = 0; a < 3; ++a) most[a] = std::max(most[a], c.grid[3 * i + size_t(a)]);
+        most[3] = std::max(most[3], c.batch[i]);
+    }
+    int bits = 0;
+    for (int32_t m : most) bits += int(std::bit_width(uint32_t(m)));
+    return bits;
+}
 
 Cloud random_cloud(size_t n, int clouds, int extent, uint64_t seed, bool distinct) {
     std::mt19937_64 rng(seed);

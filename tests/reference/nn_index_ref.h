@@ -14,6 +14,8 @@ struct Cloud {
     size_t size() const { return batch.size(); }
 };
 Cloud random_cloud(size_t n, int clouds, int extent, uint64_t seed, bool distinct);
+// Bit lengths of the largest batch, x, y and z added up: the packed key's exact width.
+int grid_key_bits(const Cloud& c);
 
 // Orders by index, as in the model config: 0 z, 1 z-trans, 2 hilbert, 3 hilbert-trans.
 uint64_t z_order_code(uint32_t x, uint32_t y, uint32_t z, int depth);
