@@ -56,8 +56,11 @@ Tensor weight_grad(vk::CommandList& cmd, Pool& pool, const Tensor& dy, const Ten
         return t;
     };
     // The GEMM spreads its rows over lanes and workgroups: the longer side goes there, and a
-    // (small) transpose turns dwᵀ back when that is K.
-    const bool swap = K > N;
+    // (small) transpose turns dwᵀ back when that is K. Its fast CPU kernels (linear_deep's depth
+    // split) write 8 output columns at a time, so the other side goes there when only it is a
+    // multiple of 8: a 2-class head's dW is then one dispatch per window, not one per 64 rows.
+    const bool n8 = N % 8 == 0, k8 = K % 8 == 0;
+    const bool swap = n8 == k8 ? K > N : n8;
     const uint64_t bytes = uint64_t(N) * K * sizeof(float);
     Tensor dw, part = windows > 1 ? pool.empty({int64_t(windows), int64_t(N) * K}) : Tensor{};
     for (uint32_t w = 0; w < windows; ++w) {

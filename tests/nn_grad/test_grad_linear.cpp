@@ -117,6 +117,7 @@ TEST_CASE("linear backward matches the CPU reference at edge and large sizes") {
     check_linear(*pool, 8192, 64, 64, 6);   // a PTv3 batch: dw sums over 8192 rows
     check_linear(*pool, 4099, 33, 130, 7);  // rows not a multiple of 8 (padded transposes)
     check_linear(*pool, 40000, 8, 12, 8);   // dw over many windows of rows
+    check_linear(*pool, 8192, 16, 2, 9);    // a 2-class head: dw's GEMM puts its columns on the 16 side
 }
 
 TEST_CASE("linear backward reference matches finite differences") {
