@@ -8,6 +8,17 @@
 
 layout(std430, binding = 3) writeonly buffer Stats { vec2 stats[]; };  // [H, N]: (base-2 lse, D)
 
+// Keys and values j0 .. j0 + GROUP of the window starting at key0; past count, its last one.
+void load_keys(uint head, int key0, int j0, int count, out vec4 kg[GROUP * D4], out vec4 vg[GROUP * D4]) {
+    [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
+        vec4 x[D4];
+        load_part(head, key0 + min(j0 + int(jj), count - 1), PART_K, x);
+        [[unroll]] for (uint d = 0u; d < D4; ++d) kg[jj * D4 + d] = x[d];
+        load_part(head, key0 + min(j0 + int(jj), count - 1), PART_V, x);
+        [[unroll]] for (uint d = 0u; d < D4; ++d) vg[jj * D4 + d] = x[d];
+    }
+}
+
 void main() {
     WindowBlock wb;
     if (!window_block(wb)) return;
@@ -35,13 +46,7 @@ void main() {
     // Sweep 1: the softmax (online, a rescale per group of keys) and out = P v.
     [[dont_unroll]] for (int j0 = 0; j0 < count; j0 += GROUP) {
         vec4 kg[GROUP * D4], vg[GROUP * D4];
-        [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
-            vec4 x[D4];
-            load_part(wb.head, key0 + min(j0 + int(jj), count - 1), PART_K, x);
-            [[unroll]] for (uint d = 0u; d < D4; ++d) kg[jj * D4 + d] = x[d];
-            load_part(wb.head, key0 + min(j0 + int(jj), count - 1), PART_V, x);
-            [[unroll]] for (uint d = 0u; d < D4; ++d) vg[jj * D4 + d] = x[d];
-        }
+        load_keys(wb.head, key0, j0, count, kg, vg);
         [[unroll]] for (uint r = 0u; r < ROWS; ++r) {
             float s[GROUP];
             [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
@@ -78,13 +83,7 @@ void main() {
     // Sweep 2: dq = sum_j P_j (dout . v_j - D) k_j, in key order.
     [[dont_unroll]] for (int j0 = 0; j0 < count; j0 += GROUP) {
         vec4 kg[GROUP * D4], vg[GROUP * D4];
-        [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
-            vec4 x[D4];
-            load_part(wb.head, key0 + min(j0 + int(jj), count - 1), PART_K, x);
-            [[unroll]] for (uint d = 0u; d < D4; ++d) kg[jj * D4 + d] = x[d];
-            load_part(wb.head, key0 + min(j0 + int(jj), count - 1), PART_V, x);
-            [[unroll]] for (uint d = 0u; d < D4; ++d) vg[jj * D4 + d] = x[d];
-        }
+        load_keys(wb.head, key0, j0, count, kg, vg);
         [[unroll]] for (uint r = 0u; r < ROWS; ++r) {
             [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
                 vec4 qk = q[r * D4] * kg[jj * D4], gv = go[r * D4] * vg[jj * D4];
