@@ -37,6 +37,7 @@ struct LanesVariant {
     uint32_t wg, kc;
     bool a_vec, y_vec, gelu;
     const char* shader;
+    bool seg8 = false;  // A_SEG 8: gathered rows of cin % 8 == 0 read 8 floats per neighbour lookup
 };
 constexpr LanesVariant kLanesVariants[] = {
     {64, 32, false, false, false, "nn/linear_lanes_w64_k32_aone_yone"},
@@ -55,14 +56,19 @@ constexpr LanesVariant kLanesVariants[] = {
     {256, 64, true, false, false, "nn/linear_lanes_w256_k64_avec_yone"},
     {256, 64, true, true, false, "nn/linear_lanes_w256_k64_avec_yvec"},
     {256, 64, true, true, true, "nn/linear_lanes_w256_k64_avec_yvec_gelu"},
+    {64, 32, true, true, false, "nn/linear_lanes_w64_k32_aseg8_yvec", true},
+    {64, 64, true, true, false, "nn/linear_lanes_w64_k64_aseg8_yvec", true},
+    {256, 32, true, true, false, "nn/linear_lanes_w256_k32_aseg8_yvec", true},
+    {256, 64, true, true, false, "nn/linear_lanes_w256_k64_aseg8_yvec", true},
 };
 
-const char* lanes_shader(uint32_t wg, uint32_t kc, bool a_vec, bool y_vec, bool gelu) {
+const char* lanes_shader(uint32_t wg, uint32_t kc, bool a_vec, bool y_vec, bool gelu, bool seg8 = false) {
     for (const LanesVariant& v : kLanesVariants)
-        if (v.wg == wg && v.kc == kc && v.a_vec == a_vec && v.y_vec == y_vec && v.gelu == gelu) return v.shader;
+        if (v.wg == wg && v.kc == kc && v.a_vec == a_vec && v.y_vec == y_vec && v.gelu == gelu && v.seg8 == seg8)
+            return v.shader;
     throw std::logic_error("linear: no lanes kernel for " + std::to_string(wg) + " rows, depth " + std::to_string(kc) +
-                           (a_vec ? ", vector A" : ", scalar A") + (y_vec ? ", vector y" : ", scalar y") +
-                           (gelu ? ", GELU" : ""));
+                           (a_vec ? ", vector A" : ", scalar A") + (seg8 ? " in 8-column lookups" : "") +
+                           (y_vec ? ", vector y" : ", scalar y") + (gelu ? ", GELU" : ""));
 }
 
 void expect_f32(const Tensor& t, const char* op, const char* what) {
@@ -86,8 +92,11 @@ uint32_t lanes_rows(uint64_t M) { return M <= 128 ? 64 : 256; }
 // Returns false when GELU is still to be applied (the common variants have it built in).
 bool run_lanes(vk::CommandList& cmd, const Gemm& g, const Tensor& y) {
     const uint32_t wg = lanes_rows(g.M);
-    const bool a_vec = g.K % 8 == 0 && g.K > 0 && (g.nbr ? g.cin % 32 == 0 : g.cin % 8 == 0);
     const bool y_vec = g.N % 8 == 0;
+    // Gathered rows of 8 or 24 channels: a neighbour lookup per 8 columns instead of one per
+    // 32, still 8-float loads instead of a lookup and a load per column (variants: vector y only).
+    const bool seg8 = g.nbr && g.cin % 8 == 0 && g.cin % 32 != 0 && y_vec && !g.gelu;
+    const bool a_vec = g.K % 8 == 0 && g.K > 0 && (g.nbr ? g.cin % 32 == 0 || seg8 : g.cin % 8 == 0);
     const bool fused_gelu = g.gelu && a_vec && y_vec;  // the variants that exist (kLanesVariants)
     gpu::GemmPush push{g.M, g.N, g.K, 0, 0, g.cin, g.taps, ceil_div(g.N, PG_LANES_NC)};
     const uint64_t groups = uint64_t(ceil_div(g.M, wg)) * push.col_tiles;
@@ -99,7 +108,7 @@ bool run_lanes(vk::CommandList& cmd, const Gemm& g, const Tensor& y) {
         // Scalar A loads make big shaders that buy little from deeper chunks: 32 for them.
         const uint32_t kc = a_vec && g.K - k0 > 32 ? 64 : 32;
         const bool last = k0 + kc >= g.K;
-        const char* shader = lanes_shader(wg, kc, a_vec, y_vec, last && fused_gelu);
+        const char* shader = lanes_shader(wg, kc, a_vec, y_vec, last && fused_gelu, seg8);
         push.k0 = k0;
         push.flags = flags_of(g) | (k0 == 0 ? PG_GEMM_FIRST : 0u);
         cmd.dispatch(shader, {g.x, g.w, bias, res, y, nbr}, push, groups);

@@ -12,8 +12,9 @@
 // traffic is then KC values of A and NC of y per KC*NC multiply-adds. GPUs use gemm_tiled.glsl.
 //
 // Defines: WG (rows per workgroup), KC (chunk depth, a multiple of 32), A_VEC (A, W and the
-// gathered rows are read 8 floats at a time: needs cin % 8 == 0 when dense, cin % 32 == 0
-// when gathered, K % 8 == 0), Y_VEC (y rows 8 floats at a time: needs N % 8 == 0), GELU
+// gathered rows are read 8 floats at a time: needs cin % 8 == 0 when dense, cin % A_SEG == 0
+// when gathered, K % 8 == 0), A_SEG (optional, 32 or 8: columns of A per neighbour lookup;
+// 8 lets gathered rows of 8 or 24 channels take vector loads, at a lookup per 8), Y_VEC (y rows 8 floats at a time: needs N % 8 == 0), GELU
 // (optional: apply GELU before storing; the last chunk's variant. A flag would cost the GELU
 // on every chunk: llvmpipe runs both sides of a branch), RULEBOOK (optional, with A_VEC and
 // Y_VEC: the rows are the pairs of one tap of a sparse-convolution rulebook, the tap whose
@@ -25,6 +26,9 @@
 // fixed cost to dominate).
 #ifndef SPLIT
 #define SPLIT 0
+#endif
+#ifndef A_SEG
+#define A_SEG 32u
 #endif
 #if SPLIT && (RULEBOOK || !(A_VEC && Y_VEC))
 #error "SPLIT is dense, with A_VEC and Y_VEC"
@@ -155,18 +159,18 @@ void main() {
         [[unroll]] for (uint i = 0u; i < 8u; ++i) a[8u * r + i] = f[i];
     }
 #elif A_VEC
-    [[unroll]] for (uint q = 0u; q < KC / 32u; ++q) {
-        // A 32-column segment lies in one tap: cin % 32 == 0 when gathered.
-        const uint k = k0 + 32u * q;
+    [[unroll]] for (uint q = 0u; q < KC / A_SEG; ++q) {
+        // A segment of A_SEG columns lies in one tap: cin % A_SEG == 0 when gathered.
+        const uint k = k0 + A_SEG * q;
         const uint t = min(k / pc.cin, pc.taps - 1u), c = k % pc.cin;
         int j = int(mr);
         if (gather) j = nbr[mr * pc.taps + t];
         const bool valid = k < pc.K && j >= 0;
-        [[unroll]] for (uint r = 0u; r < 4u; ++r) {
+        [[unroll]] for (uint r = 0u; r < A_SEG / 8u; ++r) {
             const uint cr = min(c + 8u * r, pc.cin - 8u);
             float f[8];
             unpack8(x8[(uint(max(j, 0)) * pc.cin + cr) / 8u], f);
-            [[unroll]] for (uint i = 0u; i < 8u; ++i) a[32u * q + 8u * r + i] = valid ? f[i] : 0.0;
+            [[unroll]] for (uint i = 0u; i < 8u; ++i) a[A_SEG * q + 8u * r + i] = valid ? f[i] : 0.0;
         }
     }
 #else

@@ -203,6 +203,17 @@ TEST_CASE("sparse_conv keeps the gathered GEMM where the rulebook kernels do not
     check_conv(*pool, 300, 200, 27, 64, 36, false, 0.5, 62);
 }
 
+TEST_CASE("sparse_conv's gathered lanes GEMM reads 8- and 24-channel rows in 8-column lookups") {
+    // The A_SEG 8 variants (Cin % 8 == 0, not % 32; Cout % 8 == 0), on both row counts per
+    // workgroup and both chunk depths, with missing neighbours; Cout 36 keeps the scalar kernels.
+    auto pool = nn::Pool::create(pg::test::gpu());
+    PathScope scope(GemmPath::Lanes, ConvPath::Gathered);
+    check_conv(*pool, 300, 200, 27, 8, 8, true, 0.5, 71);     // 216 deep: chunks of 64, then 32
+    check_conv(*pool, 60, 50, 27, 24, 16, false, 0.3, 72);    // 64 rows a workgroup, 648 deep
+    check_conv(*pool, 900, 700, 125, 8, 16, true, 0.85, 73);  // the stem's 5x5x5 taps
+    check_conv(*pool, 100, 90, 27, 8, 36, false, 0.5, 74);    // scalar y: per-column lookups
+}
+
 TEST_CASE("build_rulebook and sparse_conv over a rulebook reject bad shapes") {
     auto pool = nn::Pool::create(pg::test::gpu());
     vk::CommandList cmd(pool->context());
