@@ -39,6 +39,11 @@ Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, con
     return window_attention(cmd, pool, qkv, order, offsets, heads, patch, scale, AttentionKernel::Auto);
 }
 
+bool cpu_attention(vk::Context& ctx, AttentionKernel kernel) {
+    return kernel == AttentionKernel::Auto ? ctx.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU
+                                           : kernel == AttentionKernel::Cpu;
+}
+
 Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, const Tensor& order,
                         const Tensor& offsets, int heads, int patch, float scale, AttentionKernel kernel) {
     require(qkv.dtype == DType::F32 && qkv.shape.size() == 2 && qkv.dim(1) % 3 == 0,
@@ -66,8 +71,7 @@ Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, con
     const int64_t clouds = offsets.dim(0) - 1;
     const int d = int(head_dim);
     // CPU drivers get the variant that gives each invocation many queries (see the config).
-    const bool cpu = kernel == AttentionKernel::Auto ? pool.context().info().type == VK_PHYSICAL_DEVICE_TYPE_CPU
-                                                     : kernel == AttentionKernel::Cpu;
+    const bool cpu = cpu_attention(pool.context(), kernel);
     const int64_t block = cpu ? PG_ATTN_CPU_THREADS * PG_ATTN_CPU_ROWS(d) : PG_ATTN_GPU_THREADS * PG_ATTN_GPU_ROWS;
     gpu::AttentionPush push{};
     push.rows = uint32_t(n);

@@ -22,6 +22,8 @@ Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, con
 // one-query invocations; Cpu (for CPU drivers like lavapipe, needs shaderInt64) gives each
 // invocation many queries and no shared memory. Auto picks by device type; tests run both.
 enum class AttentionKernel { Auto, Gpu, Cpu };
+// Whether `kernel` means the Cpu kernels on this device (Auto: a CPU device), forward and backward.
+bool cpu_attention(vk::Context& ctx, AttentionKernel kernel);
 Tensor window_attention(vk::CommandList& cmd, Pool& pool, const Tensor& qkv, const Tensor& order,
                         const Tensor& offsets, int heads, int patch, float scale, AttentionKernel kernel);
 

@@ -62,10 +62,7 @@ Tensor window_attention_backward(vk::CommandList& cmd, Pool& pool, const Tensor&
     cmd.dispatch("nn/grad_attention_gather", {qkv, order, dout, gathered}, push,
                  vk::ceil_div(uint64_t(gathered.numel() / 4), PG_GRAD_ATTN_THREADS));
     Tensor stats = pool.empty({heads, n, 2}, DType::F32);
-    const bool cpu = kernel == ops::AttentionKernel::Auto
-                         ? pool.context().info().type == VK_PHYSICAL_DEVICE_TYPE_CPU
-                         : kernel == ops::AttentionKernel::Cpu;
-    if (cpu) {
+    if (ops::cpu_attention(pool.context(), kernel)) {
         // Workgroups: heads x windows (numbered floor(offsets[b] / K) + b + local, an upper
         // bound) x blocks per window; numbers past a cloud's windows return at once.
         const int64_t block = PG_ATTN_CPU_THREADS * PG_GRAD_ATTN_CPU_ROWS(head_dim);

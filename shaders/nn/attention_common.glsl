@@ -3,31 +3,12 @@
 // BLOCK (queries per workgroup) first and enables GL_EXT_control_flow_attributes.
 #include "common/dispatch.glsl"
 #include "nn/attention_config.glsl"
+#include "nn/attention_softmax.glsl"
 
 layout(std430, binding = 1) readonly buffer Order { int order[]; };
 layout(std430, binding = 2) readonly buffer Offsets { int offsets[]; };
 layout(std430, binding = 3) writeonly buffer Out { vec4 result[]; };  // [N, C]
 layout(push_constant) uniform PushBlock { AttentionPush pc; };
-
-// Below any real logit, yet finite: exp2(kNone - m) is 0 without inf - inf.
-const float kNone = -3.0e38;
-
-// Online softmax over one group of base-2 logits: turns s into weights relative to the new
-// running max m, adds them to the running sum l, and returns the factor that rescales what was
-// accumulated under the old max.
-float softmax_group(inout float m, inout float l, inout float s[PG_ATTN_GROUP]) {
-    float mt = m;
-    [[unroll]] for (uint j = 0u; j < PG_ATTN_GROUP; ++j) mt = max(mt, s[j]);
-    const float alpha = exp2(m - mt);
-    float sum = 0.0;
-    [[unroll]] for (uint j = 0u; j < PG_ATTN_GROUP; ++j) {
-        s[j] = exp2(s[j] - mt);
-        sum += s[j];
-    }
-    m = mt;
-    l = l * alpha + sum;
-    return alpha;
-}
 
 // The point at serialized position p, clamped so malformed offsets never read out of bounds.
 uint point_at(int p) {

@@ -8,6 +8,7 @@
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "nn/attention_config.glsl"
+#include "nn/pack8.glsl"
 
 #define D4 (PG_ATTN_D / 4)
 #define D8 (PG_ATTN_D / 8)
@@ -21,11 +22,6 @@ layout(local_size_x = THREADS) in;
 layout(std430, binding = 0) readonly buffer Qkv { u64vec4 qkv[]; };  // [N, 3C]
 layout(std430, binding = 4) readonly buffer Kv { u64vec4 kv[]; };  // [H, N, 2D] (attention_gather)
 #include "nn/attention_common.glsl"
-
-void unpack8(u64vec4 x, out vec4 lo, out vec4 hi) {
-    lo = uintBitsToFloat(uvec4(unpackUint2x32(x.x), unpackUint2x32(x.y)));
-    hi = uintBitsToFloat(uvec4(unpackUint2x32(x.z), unpackUint2x32(x.w)));
-}
 
 void main() {
     QueryBlock qb;

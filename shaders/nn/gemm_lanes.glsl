@@ -14,7 +14,8 @@
 // Defines: WG (rows per workgroup), KC (chunk depth, a multiple of 32), A_VEC (A, W and the
 // gathered rows are read 8 floats at a time: needs cin % 8 == 0 when dense, cin % A_SEG == 0
 // when gathered, K % 8 == 0), A_SEG (optional, 32 or 8: columns of A per neighbour lookup;
-// 8 lets gathered rows of 8 or 24 channels take vector loads, at a lookup per 8), Y_VEC (y rows 8 floats at a time: needs N % 8 == 0), GELU
+// 8 lets gathered rows of 8 or 24 channels take vector loads, at a lookup per 8), Y_VEC (y
+// rows 8 floats at a time: needs N % 8 == 0), GELU
 // (optional: apply GELU before storing; the last chunk's variant. A flag would cost the GELU
 // on every chunk: llvmpipe runs both sides of a branch), RULEBOOK (optional, with A_VEC and
 // Y_VEC: the rows are the pairs of one tap of a sparse-convolution rulebook, the tap whose

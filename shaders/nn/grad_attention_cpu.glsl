@@ -9,6 +9,8 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "common/dispatch.glsl"
 #include "nn/attention_config.glsl"
+#include "nn/pack8.glsl"
+#include "nn/attention_softmax.glsl"
 #include "nn/grad_attention_config.glsl"
 
 #define D4 (PG_ATTN_D / 4)
@@ -29,19 +31,6 @@ layout(std430, binding = 1) readonly buffer Order { int order[]; };
 layout(std430, binding = 2) readonly buffer Offsets { int offsets[]; };
 layout(std430, binding = 4) writeonly buffer Dqkv { u64vec4 dqkv8[]; };  // [N, 3C]
 layout(push_constant) uniform PushBlock { GradAttentionPush pc; };
-
-// Below any real logit, yet finite: exp2(kNone - m) is 0 without inf - inf.
-const float kNone = -3.0e38;
-
-void unpack8(u64vec4 x, out vec4 lo, out vec4 hi) {
-    lo = uintBitsToFloat(uvec4(unpackUint2x32(x.x), unpackUint2x32(x.y)));
-    hi = uintBitsToFloat(uvec4(unpackUint2x32(x.z), unpackUint2x32(x.w)));
-}
-
-u64vec4 pack8(vec4 lo, vec4 hi) {
-    const uvec4 a = floatBitsToUint(lo), b = floatBitsToUint(hi);
-    return u64vec4(packUint2x32(a.xy), packUint2x32(a.zw), packUint2x32(b.xy), packUint2x32(b.zw));
-}
 
 // Loads part `part` of the gathered row at serialized position p into x[0 .. D4).
 void load_part(uint head, int p, uint part, out vec4 x[D4]) {

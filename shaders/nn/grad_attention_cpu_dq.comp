@@ -54,16 +54,7 @@ void main() {
                 [[unroll]] for (uint d = 1u; d < D4; ++d) part = fma(q[r * D4 + d], kg[jj * D4 + d], part);
                 s[jj] = j0 + int(jj) < count ? (part.x + part.y) + (part.z + part.w) : kNone;
             }
-            float mt = m[r];
-            [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) mt = max(mt, s[jj]);
-            const float alpha = exp2(m[r] - mt);
-            float sum = 0.0;
-            [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
-                s[jj] = exp2(s[jj] - mt);
-                sum += s[jj];
-            }
-            m[r] = mt;
-            l[r] = l[r] * alpha + sum;
+            const float alpha = softmax_group(m[r], l[r], s);
             [[unroll]] for (uint d = 0u; d < D4; ++d) {
                 vec4 a = acc[r * D4 + d] * alpha;
                 [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) a = fma(vec4(s[jj]), vg[jj * D4 + d], a);
