@@ -131,6 +131,7 @@ void register_bench(CLI::App& app, std::function<void()>& run) {
     register_bench_ptv3(*bench, run);
     register_bench_train(*bench, run);
     register_bench_load(*bench, run);
+    register_bench_gemm(*bench, run);
 }
 
 }  // namespace pg::app

@@ -51,6 +51,7 @@ void register_bench_segment(CLI::App& bench, std::function<void()>& run);
 void register_bench_ptv3(CLI::App& bench, std::function<void()>& run);
 void register_bench_train(CLI::App& bench, std::function<void()>& run);
 void register_bench_load(CLI::App& bench, std::function<void()>& run);
+void register_bench_gemm(CLI::App& bench, std::function<void()>& run);
 void register_infer(CLI::App& app, std::function<void()>& run);
 void register_clicks(CLI::App& app, std::function<void()>& run);
 void register_batch(CLI::App& app, std::function<void()>& run);

@@ -196,6 +196,28 @@ TEST_CASE("bench train prints the step's ops, with the Lovasz loss when asked") 
     }
 }
 
+TEST_CASE("bench gemm times a linear and a sparse conv shape by shape, and refuses a bad shape") {
+    auto b = run("bench gemm --shapes 100x24x16,300x32x32x27 --repeats 1 --warmup 0 --json");
+    INFO(b.out);
+    REQUIRE(b.code == 0);
+    auto j = nlohmann::json::parse(b.out);
+    REQUIRE(j["shapes"].size() == 2);
+    CHECK(j["shapes"][0]["kind"] == "linear");
+    CHECK(j["shapes"][0]["gflop"].get<double>() == Approx(2.0 * 100 * 24 * 16 * 1e-9));
+    CHECK(j["shapes"][1]["kind"] == "sparse_conv");
+    // A conv counts the neighbours present: the centre tap always, about two in three others.
+    const double conv = j["shapes"][1]["gflop"].get<double>(), full = 2.0 * 300 * 32 * 32 * 27 * 1e-9;
+    CHECK(conv > 0.5 * full);
+    CHECK(conv < 0.8 * full);
+    for (const auto& row : j["shapes"]) CHECK(row["gpu_ms"].get<double>() > 0.0);
+    for (const char* bad : {"10x0x5", "10x5", "10x5x5x3x1", "axbxc"}) {
+        auto r = run(std::string("bench gemm --shapes ") + bad);
+        INFO(bad << ": " << r.out);
+        CHECK(r.code == 1);
+        CHECK(r.out.find("error: --shapes") != std::string::npos);
+    }
+}
+
 TEST_CASE("prompts, segment and eval run the benchmark protocol on the bundled sample") {
     // The ground-truth decoder isolates the pipeline around the network: 3D labels must be
     // exact, and the projected masks must match the ray-cast ground truth closely.
