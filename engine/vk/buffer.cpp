@@ -4,6 +4,7 @@
 #include <atomic>
 #include <mutex>
 #include <stdexcept>
+#include <utility>
 
 #include "engine/vk/check.h"
 #include "engine/vk/commands.h"
@@ -41,6 +42,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
         mapped_ = std::exchange(o.mapped_, nullptr);
         use_ = o.use_;
         name_ = std::move(o.name_);
+        views_ = std::exchange(o.views_, {});
     }
     return *this;
 }
@@ -48,6 +50,8 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
 void Buffer::release() {
     if (!ctx_) return;
     VkDevice dev = ctx_->device();
+    for (const View& v : views_) vkDestroyBufferView(dev, v.view, nullptr);
+    views_.clear();
     if (buffer_) vkDestroyBuffer(dev, buffer_, nullptr);
     if (memory_) {
         vkFreeMemory(dev, memory_, nullptr);
@@ -57,6 +61,20 @@ void Buffer::release() {
     memory_ = VK_NULL_HANDLE;
     mapped_ = nullptr;
     size_ = 0;
+}
+
+VkBufferView Buffer::texel_view(VkFormat format, VkDeviceSize offset, VkDeviceSize bytes) const {
+    for (const View& v : views_)
+        if (v.format == format && v.offset == offset && v.bytes == bytes) return v.view;
+    VkBufferViewCreateInfo vci{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    vci.buffer = buffer_;
+    vci.format = format;
+    vci.offset = offset;
+    vci.range = bytes;
+    VkBufferView view;
+    PG_VK(vkCreateBufferView(ctx_->device(), &vci, nullptr, &view));
+    views_.push_back({format, offset, bytes, view});
+    return view;
 }
 
 void Buffer::ensure(VkDeviceSize bytes) {
@@ -74,7 +92,8 @@ void Buffer::ensure(VkDeviceSize bytes) {
     VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     bci.size = alloc;
     bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
+                VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT;
     bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     VkDevice dev = ctx_->device();
     PG_VK(vkCreateBuffer(dev, &bci, nullptr, &buffer_));

@@ -36,6 +36,10 @@ public:
     // Grows (never shrinks) to hold at least `bytes`; contents are not kept.
     void ensure(VkDeviceSize bytes);
 
+    // A texel-buffer view of [offset, offset + bytes) in `format`, made on first use and kept
+    // while the buffer lives.
+    VkBufferView texel_view(VkFormat format, VkDeviceSize offset, VkDeviceSize bytes) const;
+
 private:
     void release();
     Context* ctx_ = nullptr;
@@ -45,6 +49,12 @@ private:
     void* mapped_ = nullptr;
     MemoryUse use_ = MemoryUse::Device;
     std::string name_;
+    struct View {
+        VkFormat format;
+        VkDeviceSize offset, bytes;
+        VkBufferView view;
+    };
+    mutable std::vector<View> views_;
 };
 
 // Host <-> device copies that go through a staging buffer only when the memory is not mapped.

@@ -119,23 +119,40 @@ ComputePipeline& CommandList::bind(const std::string& shader, std::initializer_l
         throw std::logic_error("shader " + shader + " used with a different binding count or push size");
     vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
 
-    const VkDeviceSize range_limit = ctx_.info().max_storage_buffer_range;
+    const auto& info = ctx_.info();
     std::vector<VkDescriptorBufferInfo> infos;
+    std::vector<VkBufferView> views;
     std::vector<VkWriteDescriptorSet> writes;
     infos.reserve(buffers.size());
+    views.reserve(buffers.size());
     uint32_t binding = 0;
     for (auto& r : buffers) {
-        VkDeviceSize size = r.size == VK_WHOLE_SIZE ? r.buffer->size() - r.offset : r.size;
-        if (size > range_limit)
-            throw std::runtime_error("buffer '" + r.buffer->name() + "' binding of " + std::to_string(size) +
-                                     " bytes exceeds the device's maxStorageBufferRange (" +
-                                     std::to_string(range_limit) + ") in " + shader);
-        infos.push_back({r.buffer->handle(), r.offset, size});
+        const BindingKind& kind = p.bindings()[binding];
+        const VkDeviceSize size = r.size == VK_WHOLE_SIZE ? r.buffer->size() - r.offset : r.size;
         VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         w.dstBinding = binding++;
         w.descriptorCount = 1;
-        w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        w.pBufferInfo = &infos.back();
+        w.descriptorType = kind.type;
+        if (kind.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER) {
+            if (size > info.max_storage_buffer_range)
+                throw std::runtime_error("buffer '" + r.buffer->name() + "' binding of " + std::to_string(size) +
+                                         " bytes exceeds the device's maxStorageBufferRange (" +
+                                         std::to_string(info.max_storage_buffer_range) + ") in " + shader);
+            infos.push_back({r.buffer->handle(), r.offset, size});
+            w.pBufferInfo = &infos.back();
+        } else {
+            // A range that is not a whole number of texels ends at the last whole one.
+            const VkDeviceSize texels = size / kind.texel_bytes;
+            if (texels > info.max_texel_buffer_elements)
+                throw std::runtime_error("buffer '" + r.buffer->name() + "' binding of " + std::to_string(texels) +
+                                         " texels exceeds the device's maxTexelBufferElements (" +
+                                         std::to_string(info.max_texel_buffer_elements) + ") in " + shader);
+            if (r.offset % info.min_texel_buffer_offset_alignment != 0 || texels == 0)
+                throw std::logic_error("texel buffer '" + r.buffer->name() + "' bound at offset " +
+                                       std::to_string(r.offset) + " with " + std::to_string(size) + " bytes in " + shader);
+            views.push_back(r.buffer->texel_view(kind.format, r.offset, texels * kind.texel_bytes));
+            w.pTexelBufferView = &views.back();
+        }
         writes.push_back(w);
     }
     if (!writes.empty())

@@ -225,6 +225,8 @@ void Context::pick_device(const std::string& wanted) {
     info_.type = p2.properties.deviceType;
     info_.api_version = p2.properties.apiVersion;
     info_.max_storage_buffer_range = lim.maxStorageBufferRange;
+    info_.max_texel_buffer_elements = lim.maxTexelBufferElements;
+    info_.min_texel_buffer_offset_alignment = lim.minTexelBufferOffsetAlignment;
     info_.max_allocation_size = m3.maxMemoryAllocationSize;
     info_.max_buffer_size = has_m4 ? m4.maxBufferSize : m3.maxMemoryAllocationSize;
     for (int i = 0; i < 3; ++i) info_.max_group_count[i] = lim.maxComputeWorkGroupCount[i];

@@ -42,6 +42,8 @@ struct DeviceInfo {
     VkPhysicalDeviceType type;
     uint32_t api_version;
     VkDeviceSize max_storage_buffer_range;
+    uint32_t max_texel_buffer_elements;
+    VkDeviceSize min_texel_buffer_offset_alignment;
     VkDeviceSize max_allocation_size;
     VkDeviceSize max_buffer_size;
     uint32_t max_group_count[3];

@@ -11,9 +11,11 @@ namespace pg::vk {
 ComputePipeline::ComputePipeline(Context& ctx, const std::string& shader, uint32_t buffer_count, uint32_t push_bytes)
     : ctx_(ctx), name_(shader), buffer_count_(buffer_count), push_bytes_(push_bytes) {
     VkDevice dev = ctx.device();
+    auto code = shaders::spirv(shader);
+    bindings_ = spirv_bindings(code, buffer_count);
     std::vector<VkDescriptorSetLayoutBinding> bindings(buffer_count);
     for (uint32_t i = 0; i < buffer_count; ++i)
-        bindings[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+        bindings[i] = {i, bindings_[i].type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     VkDescriptorSetLayoutCreateInfo dci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     dci.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
     dci.bindingCount = buffer_count;
@@ -28,7 +30,6 @@ ComputePipeline::ComputePipeline(Context& ctx, const std::string& shader, uint32
     lci.pPushConstantRanges = &range;
     PG_VK(vkCreatePipelineLayout(dev, &lci, nullptr, &layout_));
 
-    auto code = shaders::spirv(shader);
     VkShaderModuleCreateInfo sci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     sci.codeSize = code.size() * sizeof(uint32_t);
     sci.pCode = code.data();

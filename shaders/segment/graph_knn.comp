@@ -19,9 +19,11 @@
 #include "segment/graph_grid.glsl"
 
 layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer Sorted { uvec4 sorted_pos[]; };  // graph_sorted
-layout(std430, binding = 1) readonly buffer Keys { uint keys[]; };            // sorted
-layout(std430, binding = 2) readonly buffer RowStart { uint row_start[]; };   // graph_cells, scanned
+// Reads through texel buffers: on CPU drivers a texel load is gathered in vector code, a storage
+// buffer load at an address that differs between lanes is a loop over the lanes.
+layout(binding = 0, rgba32ui) readonly uniform uimageBuffer sorted_pos;  // graph_sorted
+layout(binding = 1, r32ui) readonly uniform uimageBuffer keys;           // sorted
+layout(binding = 2, r32ui) readonly uniform uimageBuffer row_start;      // graph_cells, scanned
 layout(std430, binding = 3) writeonly buffer Nbr { uint nbr[]; };       // k per node, kGraphNone if fewer
 layout(std430, binding = 4) writeonly buffer Dist { float dist[]; };    // k per node
 layout(std430, binding = 5) writeonly buffer Spacing { float spacing[]; };
@@ -39,7 +41,7 @@ const uint KNN_K = GRAPH_K;
 uint lower_bound(uint key, uint lo, uint hi) {
     while (lo < hi) {
         uint mid = (lo + hi) >> 1;
-        if (keys[mid] < key) lo = mid + 1u; else hi = mid;
+        if (imageLoad(keys, int(mid)).x < key) lo = mid + 1u; else hi = mid;
     }
     return lo;
 }
@@ -55,7 +57,7 @@ void main() {
         if (t >= short_list[3]) return;
         g = short_list[4u + t];
     }
-    uvec4 own = sorted_pos[g];
+    uvec4 own = imageLoad(sorted_pos, int(g));
     uint i = own.w;
     vec3 p = uintBitsToFloat(own.xyz);
     ivec3 c = cell_of(p, pc.origin, pc.dims);
@@ -83,10 +85,10 @@ void main() {
                     x1 = min(x1, int(pc.dims.x) - 1);
                     if (x0 > x1) continue;
                     uint first = cell_key(ivec3(x0, q), pc.bits), last = cell_key(ivec3(x1, q), pc.bits);
-                    uint row = uint(q.x) + pc.dims.y * uint(q.y), end = row_start[row + 1u];
-                    for (uint s = lower_bound(first, row_start[row], end); s < end && keys[s] <= last && scanned < kGraphMaxScan;
-                         ++s, ++scanned) {
-                        uvec4 other = sorted_pos[s];
+                    uint row = uint(q.x) + pc.dims.y * uint(q.y), end = imageLoad(row_start, int(row + 1u)).x;
+                    for (uint s = lower_bound(first, imageLoad(row_start, int(row)).x, end);
+                         s < end && imageLoad(keys, int(s)).x <= last && scanned < kGraphMaxScan; ++s, ++scanned) {
+                        uvec4 other = imageLoad(sorted_pos, int(s));
                         uint j = other.w;
                         if (j == i) continue;
                         vec3 d = uintBitsToFloat(other.xyz) - p;

@@ -9,10 +9,11 @@
 #include "segment/graph_shared.h"
 
 layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer Nbr { uint nbr[]; };
-layout(std430, binding = 1) readonly buffer Twin { uint twin[]; };
-layout(std430, binding = 2) readonly buffer Weight { float weight[]; };  // per kNN slot
-layout(std430, binding = 3) readonly buffer Rows { uint rows[]; };
+// Reads through texel buffers: gathered in vector code on CPU drivers (graph_knn.comp).
+layout(binding = 0, r32ui) readonly uniform uimageBuffer nbr;
+layout(binding = 1, r32ui) readonly uniform uimageBuffer twin;
+layout(binding = 2, r32f) readonly uniform imageBuffer weight;  // per kNN slot
+layout(binding = 3, r32ui) readonly uniform uimageBuffer rows;
 layout(std430, binding = 4) buffer Columns { uint columns[]; };  // the tails' slot ids in, columns out
 layout(std430, binding = 5) writeonly buffer Weights { float weights[]; };
 layout(std430, binding = 6) writeonly buffer Degree { float degree[]; };
@@ -22,9 +23,9 @@ void main() {
     uint i = pg_global_index();
     uint n = pc.size.x, k = pc.size.y;
     if (i >= n) return;
-    uint s = rows[i], end = rows[i + 1u];
+    uint s = imageLoad(rows, int(i)).x, end = imageLoad(rows, int(i + 1u)).x;
     uint own = 0u;
-    for (uint t = i * k; t < i * k + k; ++t) own += nbr[t] != kGraphNone ? 1u : 0u;
+    for (uint t = i * k; t < i * k + k; ++t) own += imageLoad(nbr, int(t)).x != kGraphNone ? 1u : 0u;
     uint tail = s + own;
     for (uint a = tail + 1u; a < end; ++a) {
         uint v = columns[a], b = a;
@@ -33,11 +34,12 @@ void main() {
     }
     float d = 0.0;
     for (uint t = i * k; t < i * k + k; ++t) {
-        uint j = nbr[t];
+        uint j = imageLoad(nbr, int(t)).x;
         if (j == kGraphNone) continue;
         // i's weight + j's here, j's + i's in row j: float addition commutes exactly.
-        uint other = twin[t];
-        float w = other == kGraphNone ? weight[t] : weight[t] + weight[other];
+        uint other = imageLoad(twin, int(t)).x;
+        float wt = imageLoad(weight, int(t)).x;
+        float w = other == kGraphNone ? wt : wt + imageLoad(weight, int(other)).x;
         columns[s] = j;
         weights[s] = w;
         d += w;
@@ -46,8 +48,9 @@ void main() {
     for (; s < end; ++s) {
         uint slot = columns[s];
         columns[s] = slot / k;
-        weights[s] = weight[slot];
-        d += weight[slot];
+        const float ws = imageLoad(weight, int(slot)).x;
+        weights[s] = ws;
+        d += ws;
     }
     degree[i] = d;
 }

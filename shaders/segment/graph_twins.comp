@@ -8,7 +8,8 @@
 #include "segment/graph_shared.h"
 
 layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer Nbr { uint nbr[]; };
+// Reads through texel buffers: gathered in vector code on CPU drivers (graph_knn.comp).
+layout(binding = 0, r32ui) readonly uniform uimageBuffer nbr;
 layout(std430, binding = 1) writeonly buffer Twin { uint twin[]; };  // kGraphNone: none
 layout(std430, binding = 2) buffer ReverseCount { uint reverse_count[]; };  // zeroed
 layout(push_constant) uniform Push { GraphEdgesPush pc; };
@@ -17,13 +18,13 @@ void main() {
     uint t = pg_global_index();
     uint n = pc.size.x, k = pc.size.y;
     if (t >= n * k) return;
-    uint i = t / k, j = nbr[t], other = kGraphNone;
+    uint i = t / k, j = imageLoad(nbr, int(t)).x, other = kGraphNone;
     if (j == kGraphNone) {
         twin[t] = kGraphNone;
         return;
     }
     for (uint u = 0u; u < k; ++u)
-        if (nbr[j * k + u] == i) other = j * k + u;
+        if (imageLoad(nbr, int(j * k + u)).x == i) other = j * k + u;
     twin[t] = other;
     if (other == kGraphNone) atomicAdd(reverse_count[j], 1u);
 }

@@ -8,27 +8,30 @@
 #include "segment/graph_shared.h"
 
 layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer Pos { vec4 pos[]; };
-layout(std430, binding = 1) readonly buffer Colour { vec4 colour[]; };
-layout(std430, binding = 2) readonly buffer Normal { vec4 normal[]; };
-layout(std430, binding = 3) readonly buffer Nbr { uint nbr[]; };
-layout(std430, binding = 4) readonly buffer Dist { float dist[]; };
-layout(std430, binding = 5) readonly buffer Spacing { float spacing[]; };
+// Reads through texel buffers: gathered in vector code on CPU drivers (graph_knn.comp).
+layout(binding = 0, rgba32f) readonly uniform imageBuffer pos;
+layout(binding = 1, rgba32f) readonly uniform imageBuffer colour;
+layout(binding = 2, rgba32f) readonly uniform imageBuffer normal;
+layout(binding = 3, r32ui) readonly uniform uimageBuffer nbr;
+layout(binding = 4, r32f) readonly uniform imageBuffer dist;
+layout(binding = 5, r32f) readonly uniform imageBuffer spacing;
 layout(std430, binding = 6) writeonly buffer Weight { float weight[]; };  // per kNN slot, 0 when empty
 layout(push_constant) uniform Push { GraphWeightsPush pc; };
 
 void main() {
     uint e = pg_global_index();
     if (e >= pc.size.x * pc.size.y) return;
-    uint i = e / pc.size.y, j = nbr[e];
+    uint i = e / pc.size.y, j = imageLoad(nbr, int(e)).x;
     if (j == kGraphNone) {
         weight[e] = 0.0;
         return;
     }
-    vec3 dc = colour[i].rgb - colour[j].rgb;
-    float s = max(sqrt(spacing[i] * spacing[j]), 1e-12) * pc.beta.z;
-    float r = dist[e] / s;
-    float nn = dot(normal[i].xyz, normal[j].xyz);
-    float bend = normal[i].w * normal[j].w * (1.0 - nn * nn);
-    weight[e] = exp(-pc.beta.x * dot(dc, dc) - r * r - pc.beta.y * bend) * pow(max(min(pos[i].w, pos[j].w), 1e-30), pc.beta.w);
+    vec3 dc = imageLoad(colour, int(i)).rgb - imageLoad(colour, int(j)).rgb;
+    float s = max(sqrt(imageLoad(spacing, int(i)).x * imageLoad(spacing, int(j)).x), 1e-12) * pc.beta.z;
+    float r = imageLoad(dist, int(e)).x / s;
+    const vec4 ni = imageLoad(normal, int(i)), nj = imageLoad(normal, int(j));
+    float nn = dot(ni.xyz, nj.xyz);
+    float bend = ni.w * nj.w * (1.0 - nn * nn);
+    const float oi = imageLoad(pos, int(i)).w, oj = imageLoad(pos, int(j)).w;
+    weight[e] = exp(-pc.beta.x * dot(dc, dc) - r * r - pc.beta.y * bend) * pow(max(min(oi, oj), 1e-30), pc.beta.w);
 }

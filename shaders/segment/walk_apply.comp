@@ -10,12 +10,14 @@
 #include "segment/graph_shared.h"
 
 layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer Rows { uint rows[]; };
-layout(std430, binding = 1) readonly buffer EdgeColumns { uint edge_columns[]; };  // the adjacency's
-layout(std430, binding = 2) readonly buffer EdgeWeights { float edge_weights[]; };  // walk_rhs
-layout(std430, binding = 3) readonly buffer Coupling { float coupling[]; };  // walk_rhs
-layout(std430, binding = 4) readonly buffer Seed { int seed[]; };
-layout(std430, binding = 5) readonly buffer V { vec4 v[]; };
+// Read through texel buffers: on CPU drivers a texel load is gathered in vector code, a storage
+// buffer load at an address that differs between lanes is a loop over the lanes.
+layout(binding = 0, r32ui) readonly uniform uimageBuffer rows;
+layout(binding = 1, r32ui) readonly uniform uimageBuffer edge_columns;  // the adjacency's
+layout(binding = 2, r32f) readonly uniform imageBuffer edge_weights;    // walk_rhs
+layout(binding = 3, r32f) readonly uniform imageBuffer coupling;        // walk_rhs
+layout(binding = 4, r32i) readonly uniform iimageBuffer seed;
+layout(binding = 5, rgba32f) readonly uniform imageBuffer v;
 layout(std430, binding = 6) writeonly buffer Y { vec4 y[]; };
 layout(std430, binding = 7) writeonly buffer Partials { vec4 partials[]; };
 layout(push_constant) uniform Push { WalkPush pc; };
@@ -27,16 +29,18 @@ void main() {
     uint n = pc.size.x;
     vec4 acc[kWalkVecs], dots[kWalkVecs];
     for (uint c = 0u; c < kWalkVecs; ++c) acc[c] = vec4(0.0), dots[c] = vec4(0.0);
-    if (i < n && seed[i] == kWalkFree) {
+    if (i < n && imageLoad(seed, int(i)).x == kWalkFree) {
         vec4 own[kWalkVecs];
-        for (uint c = 0u; c < vecs; ++c) own[c] = v[i * vecs + c];
-        for (uint s = rows[i]; s < rows[i + 1u]; ++s) {
-            uint j = edge_columns[s];
-            float w = edge_weights[s];
-            for (uint c = 0u; c < vecs; ++c) acc[c] += w * (own[c] - v[j * vecs + c]);
+        for (uint c = 0u; c < vecs; ++c) own[c] = imageLoad(v, int(i * vecs + c));
+        const uint end = imageLoad(rows, int(i + 1u)).x;
+        for (uint s = imageLoad(rows, int(i)).x; s < end; ++s) {
+            uint j = imageLoad(edge_columns, int(s)).x;
+            float w = imageLoad(edge_weights, int(s)).x;
+            for (uint c = 0u; c < vecs; ++c) acc[c] += w * (own[c] - imageLoad(v, int(j * vecs + c)));
         }
-        for (uint c = 0u; c < vecs; ++c) acc[c] += coupling[i] * own[c];
-        for (uint c = 0u; c < vecs; ++c) dots[c] = acc[c] * v[i * vecs + c];
+        const float ci = imageLoad(coupling, int(i)).x;
+        for (uint c = 0u; c < vecs; ++c) acc[c] += ci * own[c];
+        for (uint c = 0u; c < vecs; ++c) dots[c] = acc[c] * own[c];
     }
     if (i < n)
         for (uint c = 0u; c < vecs; ++c) y[i * vecs + c] = acc[c];

@@ -7,15 +7,16 @@
 #include "segment/graph_shared.h"
 
 layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer Rows { uint rows[]; };          // this level's operator
-layout(std430, binding = 1) readonly buffer Columns { uint columns[]; };
-layout(std430, binding = 2) readonly buffer Weights { float weights[]; };
-layout(std430, binding = 3) readonly buffer Diagonal { float diagonal[]; };
-layout(std430, binding = 4) readonly buffer ChildRows { uint child_rows[]; };  // per aggregate
-layout(std430, binding = 5) readonly buffer Children { uint children[]; };
-layout(std430, binding = 6) readonly buffer R { vec4 r[]; };                // this level
-layout(std430, binding = 7) readonly buffer Pre { vec4 pre[]; };
-layout(std430, binding = 8) readonly buffer Smoother { float smoother[]; }; // the next level
+// Reads through texel buffers: gathered in vector code on CPU drivers (walk_apply.comp).
+layout(binding = 0, r32ui) readonly uniform uimageBuffer rows;  // this level's operator
+layout(binding = 1, r32ui) readonly uniform uimageBuffer columns;
+layout(binding = 2, r32f) readonly uniform imageBuffer weights;
+layout(binding = 3, r32f) readonly uniform imageBuffer diagonal;
+layout(binding = 4, r32ui) readonly uniform uimageBuffer child_rows;  // per aggregate
+layout(binding = 5, r32ui) readonly uniform uimageBuffer children;
+layout(binding = 6, rgba32f) readonly uniform imageBuffer r;  // this level
+layout(binding = 7, rgba32f) readonly uniform imageBuffer pre;
+layout(binding = 8, r32f) readonly uniform imageBuffer smoother;  // the next level
 layout(std430, binding = 9) writeonly buffer CoarseR { vec4 coarse_r[]; };
 layout(std430, binding = 10) writeonly buffer CoarsePre { vec4 coarse_pre[]; };
 layout(push_constant) uniform Push { WalkCyclePush pc; };
@@ -29,17 +30,19 @@ void main() {
     if (a >= pc.size.y) return;
     vec4 acc[kWalkVecs];
     for (uint c = 0u; c < kWalkVecs; ++c) acc[c] = vec4(0.0);
-    for (uint t = child_rows[a]; t < child_rows[a + 1u]; ++t) {
-        uint i = children[t];
-        float d = diagonal[i];
-        for (uint c = 0u; c < vecs; ++c) acc[c] += r[i * vecs + c] - d * pre[i * vecs + c];
-        for (uint s = rows[i]; s < rows[i + 1u]; ++s) {
-            uint j = columns[s];
-            float w = weights[s];
-            for (uint c = 0u; c < vecs; ++c) acc[c] += w * pre[j * vecs + c];
+    const uint last = imageLoad(child_rows, int(a + 1u)).x;
+    for (uint t = imageLoad(child_rows, int(a)).x; t < last; ++t) {
+        uint i = imageLoad(children, int(t)).x;
+        float d = imageLoad(diagonal, int(i)).x;
+        for (uint c = 0u; c < vecs; ++c) acc[c] += imageLoad(r, int(i * vecs + c)) - d * imageLoad(pre, int(i * vecs + c));
+        const uint end = imageLoad(rows, int(i + 1u)).x;
+        for (uint s = imageLoad(rows, int(i)).x; s < end; ++s) {
+            uint j = imageLoad(columns, int(s)).x;
+            float w = imageLoad(weights, int(s)).x;
+            for (uint c = 0u; c < vecs; ++c) acc[c] += w * imageLoad(pre, int(j * vecs + c));
         }
     }
-    float m = smoother[a];
+    float m = imageLoad(smoother, int(a)).x;
     for (uint c = 0u; c < vecs; ++c) {
         coarse_r[a * vecs + c] = acc[c];
         coarse_pre[a * vecs + c] = m * acc[c];

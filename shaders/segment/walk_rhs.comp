@@ -13,13 +13,14 @@
 #include "segment/graph_shared.h"
 
 layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer Rows { uint rows[]; };
-layout(std430, binding = 1) readonly buffer Columns { uint columns[]; };
-layout(std430, binding = 2) readonly buffer Weights { float weights[]; };
-layout(std430, binding = 3) readonly buffer Degree { float degree[]; };
-layout(std430, binding = 4) readonly buffer Seed { int seed[]; };       // label, or kWalkFree
-layout(std430, binding = 5) readonly buffer Gamma { float gamma[]; };   // unary strength
-layout(std430, binding = 6) readonly buffer Prior { vec4 prior[]; };    // WALK_VECS per node
+// Reads through texel buffers: gathered in vector code on CPU drivers (walk_apply.comp).
+layout(binding = 0, r32ui) readonly uniform uimageBuffer rows;
+layout(binding = 1, r32ui) readonly uniform uimageBuffer columns;
+layout(binding = 2, r32f) readonly uniform imageBuffer weights;
+layout(binding = 3, r32f) readonly uniform imageBuffer degree;
+layout(binding = 4, r32i) readonly uniform iimageBuffer seed;   // label, or kWalkFree
+layout(binding = 5, r32f) readonly uniform imageBuffer gamma;   // unary strength
+layout(binding = 6, rgba32f) readonly uniform imageBuffer prior;  // WALK_VECS per node
 layout(std430, binding = 7) buffer X { vec4 x[]; };                     // start, then solution
 layout(std430, binding = 8) writeonly buffer B { vec4 b[]; };
 layout(std430, binding = 9) writeonly buffer InvDiag { float inv_diag[]; };
@@ -39,9 +40,11 @@ void main() {
     uint i = pg_global_index();
     uint n = pc.size.x;
     if (i >= n) return;
-    int own = seed[i];
+    int own = imageLoad(seed, int(i)).x;
+    const uint first = imageLoad(rows, int(i)).x, end = imageLoad(rows, int(i + 1u)).x;
     if (own != kWalkFree) {
-        for (uint s = rows[i]; s < rows[i + 1u]; ++s) edge_weights[s] = seed[columns[s]] == kWalkFree ? weights[s] : 0.0;
+        for (uint s = first; s < end; ++s)
+            edge_weights[s] = imageLoad(seed, int(imageLoad(columns, int(s)).x)).x == kWalkFree ? imageLoad(weights, int(s)).x : 0.0;
         for (uint c = 0u; c < vecs; ++c) {
             x[i * vecs + c] = indicator(own, c);
             b[i * vecs + c] = vec4(0.0);
@@ -51,18 +54,19 @@ void main() {
         return;
     }
     vec4 acc[kWalkVecs];
-    for (uint c = 0u; c < vecs; ++c) acc[c] = gamma[i] * prior[i * vecs + c];
-    float couple = gamma[i];
-    for (uint s = rows[i]; s < rows[i + 1u]; ++s) {
-        int other = seed[columns[s]];
-        float w = weights[s];
+    const float g = imageLoad(gamma, int(i)).x;
+    for (uint c = 0u; c < vecs; ++c) acc[c] = g * imageLoad(prior, int(i * vecs + c));
+    float couple = g;
+    for (uint s = first; s < end; ++s) {
+        int other = imageLoad(seed, int(imageLoad(columns, int(s)).x)).x;
+        float w = imageLoad(weights, int(s)).x;
         edge_weights[s] = other == kWalkFree ? w : 0.0;
         if (other == kWalkFree) continue;
         couple += w;
         for (uint c = 0u; c < vecs; ++c) acc[c] += w * indicator(other, c);
     }
     for (uint c = 0u; c < vecs; ++c) b[i * vecs + c] = acc[c];
-    float diag = degree[i] + gamma[i];
+    float diag = imageLoad(degree, int(i)).x + g;
     inv_diag[i] = diag > 0.0 ? 1.0 / diag : 0.0;
     coupling[i] = couple;
 }

@@ -7,13 +7,14 @@
 #include "segment/graph_shared.h"
 
 layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer Rows { uint rows[]; };
-layout(std430, binding = 1) readonly buffer Columns { uint columns[]; };
-layout(std430, binding = 2) readonly buffer Weights { float weights[]; };
-layout(std430, binding = 3) readonly buffer Diagonal { float diagonal[]; };
-layout(std430, binding = 4) readonly buffer Smoother { float smoother[]; };  // 0: out of the system
-layout(std430, binding = 5) readonly buffer R { vec4 r[]; };
-layout(std430, binding = 6) readonly buffer V { vec4 v[]; };
+// Reads through texel buffers: gathered in vector code on CPU drivers (walk_apply.comp).
+layout(binding = 0, r32ui) readonly uniform uimageBuffer rows;
+layout(binding = 1, r32ui) readonly uniform uimageBuffer columns;
+layout(binding = 2, r32f) readonly uniform imageBuffer weights;
+layout(binding = 3, r32f) readonly uniform imageBuffer diagonal;
+layout(binding = 4, r32f) readonly uniform imageBuffer smoother;  // 0: out of the system
+layout(binding = 5, rgba32f) readonly uniform imageBuffer r;
+layout(binding = 6, rgba32f) readonly uniform imageBuffer v;
 layout(std430, binding = 7) writeonly buffer Z { vec4 z[]; };
 layout(std430, binding = 8) writeonly buffer Partials { vec4 partials[]; };
 layout(push_constant) uniform Push { WalkCyclePush pc; };
@@ -25,22 +26,27 @@ void main() {
     vec4 dots[kWalkVecs];
     for (uint c = 0u; c < kWalkVecs; ++c) dots[c] = vec4(0.0);
     if (i < pc.size.x) {
-        float m = smoother[i];
-        vec4 acc[kWalkVecs];
-        for (uint c = 0u; c < vecs; ++c) acc[c] = vec4(0.0);
+        float m = imageLoad(smoother, int(i)).x;
+        vec4 acc[kWalkVecs], ri[kWalkVecs], vi[kWalkVecs];
+        for (uint c = 0u; c < vecs; ++c) {
+            acc[c] = vec4(0.0);
+            ri[c] = imageLoad(r, int(i * vecs + c));
+            vi[c] = imageLoad(v, int(i * vecs + c));
+        }
         if (m > 0.0) {
-            float d = diagonal[i];
-            for (uint c = 0u; c < vecs; ++c) acc[c] = r[i * vecs + c] - d * v[i * vecs + c];
-            for (uint s = rows[i]; s < rows[i + 1u]; ++s) {
-                uint j = columns[s];
-                float w = weights[s];
-                for (uint c = 0u; c < vecs; ++c) acc[c] += w * v[j * vecs + c];
+            float d = imageLoad(diagonal, int(i)).x;
+            for (uint c = 0u; c < vecs; ++c) acc[c] = ri[c] - d * vi[c];
+            const uint end = imageLoad(rows, int(i + 1u)).x;
+            for (uint s = imageLoad(rows, int(i)).x; s < end; ++s) {
+                uint j = imageLoad(columns, int(s)).x;
+                float w = imageLoad(weights, int(s)).x;
+                for (uint c = 0u; c < vecs; ++c) acc[c] += w * imageLoad(v, int(j * vecs + c));
             }
         }
         for (uint c = 0u; c < vecs; ++c) {
-            vec4 zi = v[i * vecs + c] + m * acc[c];
+            vec4 zi = vi[c] + m * acc[c];
             z[i * vecs + c] = zi;
-            dots[c] = r[i * vecs + c] * zi;
+            dots[c] = ri[c] * zi;
         }
     }
     if (pc.mode.x == 1u) WALK_STORE_PARTIALS(dots, partials);

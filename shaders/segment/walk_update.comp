@@ -10,9 +10,10 @@
 
 layout(local_size_x = 256) in;
 layout(std430, binding = 0) readonly buffer Scalars { WalkScalars scalars[]; };
-layout(std430, binding = 1) readonly buffer P { vec4 p[]; };
-layout(std430, binding = 2) readonly buffer Ap { vec4 ap[]; };
-layout(std430, binding = 3) readonly buffer InvDiag { float inv_diag[]; };
+// Reads through texel buffers: gathered in vector code on CPU drivers (walk_apply.comp).
+layout(binding = 1, rgba32f) readonly uniform imageBuffer p;
+layout(binding = 2, rgba32f) readonly uniform imageBuffer ap;
+layout(binding = 3, r32f) readonly uniform imageBuffer inv_diag;
 layout(std430, binding = 4) buffer X { vec4 x[]; };
 layout(std430, binding = 5) buffer R { vec4 r[]; };
 layout(std430, binding = 6) writeonly buffer Z { vec4 z[]; };
@@ -27,7 +28,7 @@ void main() {
     vec4 dots[kWalkVecs];
     for (uint c = 0u; c < kWalkVecs; ++c) dots[c] = vec4(0.0);
     if (i < pc.size.x) {
-        float m = inv_diag[i];
+        float m = imageLoad(inv_diag, int(i)).x;
         for (uint c = 0u; c < vecs; ++c) {
             uint at = i * vecs + c;
             vec4 alpha = vec4(scalars[4u * c].value.y, scalars[4u * c + 1u].value.y, scalars[4u * c + 2u].value.y,
@@ -35,8 +36,8 @@ void main() {
             vec4 xi = x[at];
             uint keep = pc.mode.z >> (4u * c);
             if ((keep & 15u) != 0u) best[at] = mix(best[at], xi, vec4(bvec4(keep & 1u, keep & 2u, keep & 4u, keep & 8u)));
-            x[at] = xi + alpha * p[at];
-            vec4 ri = r[at] - alpha * ap[at];
+            x[at] = xi + alpha * imageLoad(p, int(at));
+            vec4 ri = r[at] - alpha * imageLoad(ap, int(at));
             r[at] = ri;
             vec4 zi = m * ri;
             z[at] = zi;
