@@ -6,8 +6,9 @@
 #include "segment/graph_shared.h"
 
 layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer Parent { uint parent[]; };  // kGraphNone: out of the system
-layout(std430, binding = 1) readonly buffer CoarseZ { vec4 coarse_z[]; };
+// Reads through texel buffers: gathered in vector code on CPU drivers (walk_apply.comp).
+layout(binding = 0, r32ui) readonly uniform uimageBuffer parent;  // kGraphNone: out of the system
+layout(binding = 1, rgba32f) readonly uniform imageBuffer coarse_z;
 layout(std430, binding = 2) buffer Z { vec4 z[]; };
 layout(push_constant) uniform Push { WalkCyclePush pc; };
 #ifndef WALK_VECS
@@ -18,7 +19,7 @@ void main() {
     uint vecs = WALK_VECS;
     uint i = pg_global_index();
     if (i >= pc.size.x) return;
-    uint a = parent[i];
+    uint a = imageLoad(parent, int(i)).x;
     if (a == kGraphNone) return;
-    for (uint c = 0u; c < vecs; ++c) z[i * vecs + c] += pc.scale.x * coarse_z[a * vecs + c];
+    for (uint c = 0u; c < vecs; ++c) z[i * vecs + c] += pc.scale.x * imageLoad(coarse_z, int(a * vecs + c));
 }

@@ -6,9 +6,10 @@
 #include "segment/graph_shared.h"
 
 layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer B { vec4 b[]; };
-layout(std430, binding = 1) readonly buffer Ax { vec4 ax[]; };
-layout(std430, binding = 2) readonly buffer InvDiag { float inv_diag[]; };
+// Reads through texel buffers: gathered in vector code on CPU drivers (walk_apply.comp).
+layout(binding = 0, rgba32f) readonly uniform imageBuffer b;
+layout(binding = 1, rgba32f) readonly uniform imageBuffer ax;
+layout(binding = 2, r32f) readonly uniform imageBuffer inv_diag;
 layout(std430, binding = 3) writeonly buffer R { vec4 r[]; };
 layout(std430, binding = 4) writeonly buffer Z { vec4 z[]; };
 layout(std430, binding = 5) writeonly buffer P { vec4 p[]; };
@@ -22,15 +23,16 @@ void main() {
     vec4 dots[kWalkVecs];
     for (uint c = 0u; c < kWalkVecs; ++c) dots[c] = vec4(0.0);
     if (i < pc.size.x) {
-        float m = inv_diag[i];
+        float m = imageLoad(inv_diag, int(i)).x;
         for (uint c = 0u; c < vecs; ++c) {
             uint at = i * vecs + c;
-            vec4 ri = m > 0.0 ? b[at] - ax[at] : vec4(0.0);
+            const vec4 bi = imageLoad(b, int(at));
+            vec4 ri = m > 0.0 ? bi - imageLoad(ax, int(at)) : vec4(0.0);
             vec4 zi = m * ri;
             r[at] = ri;
             z[at] = zi;
             p[at] = zi;
-            dots[c] = pc.mode.x == 3u ? b[at] * m * b[at] : ri * zi;
+            dots[c] = pc.mode.x == 3u ? bi * m * bi : ri * zi;
         }
     }
     WALK_STORE_PARTIALS(dots, partials);
