@@ -20,7 +20,9 @@
 layout(local_size_x = THREADS) in;
 // 8 floats per element: fewer, wider components per lane-loop iteration.
 layout(std430, binding = 0) readonly buffer Qkv { u64vec4 qkv[]; };  // [N, 3C]
-layout(std430, binding = 4) readonly buffer Kv { u64vec4 kv[]; };  // [H, N, 2D] (attention_gather)
+// Keys and values through a texel buffer: all lanes read the same key, and a load inside a loop
+// is a loop over the lanes from a storage buffer but one vector gather from a texel buffer.
+layout(binding = 4, rgba32f) readonly uniform imageBuffer kv4;  // [H, N, 2D] (attention_gather)
 #include "nn/attention_common.glsl"
 
 void main() {
@@ -58,8 +60,10 @@ void main() {
             [[unroll]] for (uint jj = 0u; jj < GROUP; ++jj) {
                 const uint at = (kv_head + uint(key0 + min(j0 + int(jj), span - 1))) * (2u * D8);
                 [[unroll]] for (uint i = 0u; i < D8; ++i) {
-                    unpack8(kv[at + i], kg[jj * D4 + 2u * i], kg[jj * D4 + 2u * i + 1u]);
-                    unpack8(kv[at + D8 + i], vg[jj * D4 + 2u * i], vg[jj * D4 + 2u * i + 1u]);
+                    kg[jj * D4 + 2u * i] = imageLoad(kv4, int(2u * (at + i)));
+                    kg[jj * D4 + 2u * i + 1u] = imageLoad(kv4, int(2u * (at + i) + 1u));
+                    vg[jj * D4 + 2u * i] = imageLoad(kv4, int(2u * (at + D8 + i)));
+                    vg[jj * D4 + 2u * i + 1u] = imageLoad(kv4, int(2u * (at + D8 + i) + 1u));
                 }
             }
             [[unroll]] for (uint r = 0u; r < ROWS; ++r) {

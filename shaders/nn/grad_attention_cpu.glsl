@@ -26,7 +26,9 @@
 #define PART_G uint(3 * D8)
 
 layout(local_size_x = THREADS) in;
-layout(std430, binding = 0) readonly buffer G { u64vec4 g8[]; };  // [H, N, 4D] (grad_attention_gather)
+// Through a texel buffer: loads inside the key loops (the same row for every lane) are loops over
+// the lanes from a storage buffer, one vector gather from a texel buffer (attention_cpu.glsl).
+layout(binding = 0, rgba32f) readonly uniform imageBuffer g4;  // [H, N, 4D] (grad_attention_gather)
 layout(std430, binding = 1) readonly buffer Order { int order[]; };
 layout(std430, binding = 2) readonly buffer Offsets { int offsets[]; };
 layout(std430, binding = 4) writeonly buffer Dqkv { u64vec4 dqkv8[]; };  // [N, 3C]
@@ -35,7 +37,7 @@ layout(push_constant) uniform PushBlock { GradAttentionPush pc; };
 // Loads part `part` of the gathered row at serialized position p into x[0 .. D4).
 void load_part(uint head, int p, uint part, out vec4 x[D4]) {
     const uint at = (head * pc.rows + uint(clamp(p, 0, int(pc.rows) - 1))) * (4u * D8) + part;
-    [[unroll]] for (uint i = 0u; i < D8; ++i) unpack8(g8[at + i], x[2u * i], x[2u * i + 1u]);
+    [[unroll]] for (uint i = 0u; i < D4; ++i) x[i] = imageLoad(g4, int(2u * at + i));
 }
 
 float dot_d(vec4 a[D4], vec4 b[D4]) {
