@@ -9,23 +9,22 @@
 #include "common/dispatch.glsl"
 #include "nn/elementwise_shared.glsl"
 layout(local_size_x = PG_NORM_THREADS) in;
-layout(std430, binding = 0) readonly buffer X8 { u64vec4 x8[]; };
+// The 8-wide reads through texel buffers: a load in a loop is a loop over the lanes from a
+// storage buffer, one vector gather from a texel buffer (on CPU drivers; the same elsewhere).
+#define LOAD8(img, j, lo, hi) lo = imageLoad(img, int(2u * (j))), hi = imageLoad(img, int(2u * (j) + 1u))
+layout(binding = 0, rgba32f) readonly uniform imageBuffer x4;
 layout(std430, binding = 1) readonly buffer X1 { float x1[]; };
-layout(std430, binding = 2) readonly buffer G8 { u64vec4 g8[]; };
+layout(binding = 2, rgba32f) readonly uniform imageBuffer g4;
 layout(std430, binding = 3) readonly buffer G1 { float g1[]; };
-layout(std430, binding = 4) readonly buffer B8 { u64vec4 b8[]; };
+layout(binding = 4, rgba32f) readonly uniform imageBuffer b4;
 layout(std430, binding = 5) readonly buffer B1 { float b1[]; };
-layout(std430, binding = 6) readonly buffer R8 { u64vec4 r8[]; };
+layout(binding = 6, rgba32f) readonly uniform imageBuffer r4;
 layout(std430, binding = 7) readonly buffer R1 { float r1[]; };
 layout(std430, binding = 8) writeonly buffer Y8 { u64vec4 y8[]; };
 layout(std430, binding = 9) writeonly buffer Y1 { float y1[]; };
 layout(push_constant) uniform PushBlock { LayerNormPush pc; };
 
 // 8 floats as two vec4s, low word first.
-void unpack8(u64vec4 v, out vec4 lo, out vec4 hi) {
-    lo = vec4(uintBitsToFloat(unpack32(v.x)), uintBitsToFloat(unpack32(v.y)));
-    hi = vec4(uintBitsToFloat(unpack32(v.z)), uintBitsToFloat(unpack32(v.w)));
-}
 u64vec4 pack8(vec4 lo, vec4 hi) {
     return u64vec4(pack64(floatBitsToUint(lo.xy)), pack64(floatBitsToUint(lo.zw)), pack64(floatBitsToUint(hi.xy)),
                    pack64(floatBitsToUint(hi.zw)));
@@ -44,7 +43,7 @@ void main() {
     float s1 = 0.0;
     for (uint i = 0u; i < n8; ++i) {
         vec4 lo, hi;
-        unpack8(x8[base8 + i], lo, hi);
+        LOAD8(x4, base8 + i, lo, hi);
         s4 += (lo - shift) + (hi - shift);
     }
     for (uint i = 8u * n8; i < pc.c; ++i) s1 += x1[base1 + i] - shift;
@@ -54,7 +53,7 @@ void main() {
     float q1 = 0.0;
     for (uint i = 0u; i < n8; ++i) {
         vec4 lo, hi;
-        unpack8(x8[base8 + i], lo, hi);
+        LOAD8(x4, base8 + i, lo, hi);
         lo = (lo - shift) - mean;
         hi = (hi - shift) - mean;
         q4 += lo * lo + hi * hi;
@@ -68,14 +67,14 @@ void main() {
 
     for (uint i = 0u; i < n8; ++i) {
         vec4 lo, hi, glo, ghi, blo, bhi;
-        unpack8(x8[base8 + i], lo, hi);
-        unpack8(g8[i], glo, ghi);
-        unpack8(b8[i], blo, bhi);
+        LOAD8(x4, base8 + i, lo, hi);
+        LOAD8(g4, i, glo, ghi);
+        LOAD8(b4, i, blo, bhi);
         lo = ((lo - shift) - mean) * inv * glo + blo;
         hi = ((hi - shift) - mean) * inv * ghi + bhi;
         if (residual) {
             vec4 rlo, rhi;
-            unpack8(r8[base8 + i], rlo, rhi);
+            LOAD8(r4, base8 + i, rlo, rhi);
             lo += rlo;
             hi += rhi;
         }
