@@ -7,9 +7,14 @@
 #include "common/dispatch.glsl"
 #include "nn/grad_shared.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer XBuf { float x[]; };
-layout(std430, binding = 1) readonly buffer GammaBuf { float gamma[]; };
-layout(std430, binding = 2) readonly buffer DyBuf { float dy[]; };
+// Reads through texel buffers: a load in a loop is one vector gather, not a loop over the lanes
+// (spirv_bindings.h).
+layout(binding = 0, r32f) readonly uniform imageBuffer x_;
+layout(binding = 1, r32f) readonly uniform imageBuffer gamma_;
+layout(binding = 2, r32f) readonly uniform imageBuffer dy_;
+#define X(i) imageLoad(x_, int(i)).x
+#define GAMMA(i) imageLoad(gamma_, int(i)).x
+#define DY(i) imageLoad(dy_, int(i)).x
 layout(std430, binding = 3) writeonly buffer DxBuf { float dx[]; };
 layout(std430, binding = 4) writeonly buffer StatsBuf { float stats[]; };
 layout(push_constant) uniform PushBlock { RowsPush pc; };
@@ -19,27 +24,27 @@ void main() {
     if (r >= pc.rows) return;
     const uint base = r * pc.cols;
     const float n = float(pc.cols);
-    const float shift = x[base];
+    const float shift = X(base);
     float s = 0.0;
-    for (uint i = 0u; i < pc.cols; ++i) s += x[base + i] - shift;
+    for (uint i = 0u; i < pc.cols; ++i) s += X(base + i) - shift;
     const float mean = s / n;  // of x - shift
     float q = 0.0;
     for (uint i = 0u; i < pc.cols; ++i) {
-        const float d = (x[base + i] - shift) - mean;
+        const float d = (X(base + i) - shift) - mean;
         q += d * d;
     }
     const float inv = 1.0 / sqrt(q / n + pc.eps);
 
     float sg = 0.0, sgx = 0.0;
     for (uint i = 0u; i < pc.cols; ++i) {
-        const float g = dy[base + i] * gamma[i];
+        const float g = DY(base + i) * GAMMA(i);
         sg += g;
-        sgx += g * (((x[base + i] - shift) - mean) * inv);
+        sgx += g * (((X(base + i) - shift) - mean) * inv);
     }
     const float mg = sg / n, mgx = sgx / n;
     for (uint i = 0u; i < pc.cols; ++i) {
-        const float xhat = ((x[base + i] - shift) - mean) * inv;
-        dx[base + i] = inv * ((dy[base + i] * gamma[i] - mg) - xhat * mgx);
+        const float xhat = ((X(base + i) - shift) - mean) * inv;
+        dx[base + i] = inv * ((DY(base + i) * GAMMA(i) - mg) - xhat * mgx);
     }
     stats[3u * r] = shift;
     stats[3u * r + 1u] = mean;
