@@ -64,6 +64,9 @@ void Buffer::release() {
 }
 
 VkBufferView Buffer::texel_view(VkFormat format, VkDeviceSize offset, VkDeviceSize bytes) const {
+    // Command lists of different threads (a viewer's render and segmentation) may bind one buffer.
+    static std::mutex views_mutex;
+    std::lock_guard lock(views_mutex);
     for (const View& v : views_)
         if (v.format == format && v.offset == offset && v.bytes == bytes) return v.view;
     VkBufferViewCreateInfo vci{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
