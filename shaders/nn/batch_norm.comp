@@ -7,6 +7,7 @@
 #include "common/dispatch.glsl"
 #include "nn/elementwise_shared.glsl"
 #include "nn/erf.glsl"
+#include "nn/pack8.glsl"
 layout(local_size_x = PG_NORM_THREADS) in;
 layout(std430, binding = 0) readonly buffer X8 { u64vec4 x8[]; };
 layout(std430, binding = 1) readonly buffer X1 { float x1[]; };
@@ -24,15 +25,6 @@ layout(push_constant) uniform PushBlock { BatchNormPush pc; };
 
 const uint kRowsPerInvocation = PG_BATCH_NORM_ROWS;
 
-// 8 floats as two vec4s, low word first.
-void unpack8(u64vec4 v, out vec4 lo, out vec4 hi) {
-    lo = vec4(uintBitsToFloat(unpack32(v.x)), uintBitsToFloat(unpack32(v.y)));
-    hi = vec4(uintBitsToFloat(unpack32(v.z)), uintBitsToFloat(unpack32(v.w)));
-}
-u64vec4 pack8(vec4 lo, vec4 hi) {
-    return u64vec4(pack64(floatBitsToUint(lo.xy)), pack64(floatBitsToUint(lo.zw)), pack64(floatBitsToUint(hi.xy)),
-                   pack64(floatBitsToUint(hi.zw)));
-}
 vec4 gelu4(vec4 v) { return vec4(pg_gelu(v.x), pg_gelu(v.y), pg_gelu(v.z), pg_gelu(v.w)); }
 
 void main() {

@@ -8,6 +8,7 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "common/dispatch.glsl"
 #include "nn/elementwise_shared.glsl"
+#include "nn/pack8.glsl"
 layout(local_size_x = PG_NORM_THREADS) in;
 // The 8-wide reads through texel buffers: a load in a loop is a loop over the lanes from a
 // storage buffer, one vector gather from a texel buffer (on CPU drivers; the same elsewhere).
@@ -23,12 +24,6 @@ layout(std430, binding = 7) readonly buffer R1 { float r1[]; };
 layout(std430, binding = 8) writeonly buffer Y8 { u64vec4 y8[]; };
 layout(std430, binding = 9) writeonly buffer Y1 { float y1[]; };
 layout(push_constant) uniform PushBlock { LayerNormPush pc; };
-
-// 8 floats as two vec4s, low word first.
-u64vec4 pack8(vec4 lo, vec4 hi) {
-    return u64vec4(pack64(floatBitsToUint(lo.xy)), pack64(floatBitsToUint(lo.zw)), pack64(floatBitsToUint(hi.xy)),
-                   pack64(floatBitsToUint(hi.zw)));
-}
 
 void main() {
     const uint r = pg_global_index();
