@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "nn/ops/linear.h"
 #include "shaders/nn/grad_shared.glsl"
 
 namespace pg::nn::grad::detail {
@@ -38,6 +39,13 @@ Tensor column_sums(vk::CommandList& cmd, Pool& pool, uint32_t mode, const Tensor
     }
     const uint32_t per = rows_per_chunk(rows);
     const uint64_t chunks = ceil_div(rows, per);
+    // CPU devices: one pass, bit-identical to the two below (nn/grad_column_sums); a dispatch's
+    // fixed cost there outweighs the work of the narrow columns of a training step.
+    if (ops::detail::use_lanes(pool.context())) {
+        gpu::ColumnSumsPush push{uint32_t(rows), uint32_t(cols), mode, per, scale, 0, 0, 0};
+        cmd.dispatch("nn/grad_column_sums", {a, b, v, out}, push, ceil_div(cols, PG_COLSUM_THREADS));
+        return out;
+    }
     Tensor part = pool.empty({int64_t(chunks), int64_t(cols)});
     gpu::ColumnPartialsPush push{uint32_t(rows), uint32_t(cols), mode, per};
     cmd.dispatch("nn/grad_column_partials", {a, b, v, part}, push, ceil_div(chunks * cols, PG_GRAD_THREADS));

@@ -27,7 +27,7 @@ struct TransposeRowsPush {
 
 // Rows per window of the weight gradient: each window is one GEMM over its rows, and the
 // windows' products are summed in order (bounded copies, shorter f32 running sums).
-#define PG_GRAD_WEIGHT_ROWS 4096
+#define PG_GRAD_WEIGHT_ROWS 8192
 
 // nn/grad_column_partials modes: the per-element term summed down each column c of row r.
 #define PG_COLSUM_PLAIN 0u    // a[r, c]
@@ -38,6 +38,15 @@ struct TransposeRowsPush {
 // part[chunk, c] = sum over the rows of the chunk of the mode's term.
 struct ColumnPartialsPush {
     uint rows, cols, mode, rows_per_chunk;
+};
+
+// nn/grad_column_sums (CPU devices): out[c] = scale * the sum over chunks, in order, of the
+// chunk sums of nn/grad_column_partials, in one pass.
+#define PG_COLSUM_THREADS 8
+struct ColumnSumsPush {
+    uint rows, cols, mode, rows_per_chunk;
+    float scale;
+    uint pad0, pad1, pad2;
 };
 
 // out[i] = scale * sum over s < splits of part[s * len + i].

@@ -9,8 +9,10 @@
 #include "common/dispatch.glsl"
 #include "nn/grad_shared.glsl"
 layout(local_size_x = PG_GRAD_THREADS) in;
-layout(std430, binding = 0) readonly buffer XBuf { u64vec4 x8[]; };
-layout(std430, binding = 1) readonly buffer NbrBuf { int nbr[]; };
+// Reads through texel buffers: on CPU drivers a texel load is gathered in vector code, a storage
+// buffer load at an address that differs between lanes is a loop over the lanes.
+layout(binding = 0, rgba32f) readonly uniform imageBuffer x4;  // 8 floats: two texels
+layout(binding = 1, r32i) readonly uniform iimageBuffer nbr;
 layout(std430, binding = 2) writeonly buffer OutBuf { u64vec4 out8[]; };
 layout(push_constant) uniform PushBlock { TransposeRowsPush pc; };
 
@@ -28,20 +30,15 @@ void main() {
         uint src = mc * kblocks + kb;
         bool present = live;
         if (pc.gather != 0u) {
-            const int j = nbr[mc * pc.taps + t];
+            const int j = imageLoad(nbr, int(mc * pc.taps + t)).x;
             present = present && j >= 0;
             src = uint(max(j, 0)) * (pc.cin / 8u) + c8;
         }
-        const u64vec4 q = x8[src];
-        const uvec2 a = unpack32(q.x), b = unpack32(q.y), c = unpack32(q.z), d = unpack32(q.w);
-        v[r][0] = present ? uintBitsToFloat(a.x) : 0.0;
-        v[r][1] = present ? uintBitsToFloat(a.y) : 0.0;
-        v[r][2] = present ? uintBitsToFloat(b.x) : 0.0;
-        v[r][3] = present ? uintBitsToFloat(b.y) : 0.0;
-        v[r][4] = present ? uintBitsToFloat(c.x) : 0.0;
-        v[r][5] = present ? uintBitsToFloat(c.y) : 0.0;
-        v[r][6] = present ? uintBitsToFloat(d.x) : 0.0;
-        v[r][7] = present ? uintBitsToFloat(d.y) : 0.0;
+        const vec4 lo = imageLoad(x4, int(2u * src)), hi = imageLoad(x4, int(2u * src + 1u));
+        [[unroll]] for (uint k = 0u; k < 4u; ++k) {
+            v[r][k] = present ? lo[k] : 0.0;
+            v[r][4u + k] = present ? hi[k] : 0.0;
+        }
     }
     [[unroll]] for (uint k = 0u; k < 8u; ++k) {
         out8[(kb * 8u + k) * rblocks + rb] =

@@ -6,9 +6,11 @@
 #include "nn/erf.glsl"
 #include "nn/gemm_shared.glsl"
 layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer PartBuf { float part[]; };
-layout(std430, binding = 1) readonly buffer BiasBuf { float bias[]; };
-layout(std430, binding = 2) readonly buffer ResBuf { float res[]; };
+// Reads through texel buffers: gathered in vector code on CPU drivers, where a storage buffer
+// load at an address that differs between lanes is a loop over the lanes.
+layout(binding = 0, r32f) readonly uniform imageBuffer part;
+layout(binding = 1, r32f) readonly uniform imageBuffer bias;
+layout(binding = 2, r32f) readonly uniform imageBuffer res;
 layout(std430, binding = 3) writeonly buffer YBuf { float y[]; };
 layout(push_constant) uniform PushBlock { GemmReducePush pc; };
 
@@ -16,9 +18,9 @@ void main() {
     const uint i = pg_global_index();
     if (i >= pc.M * pc.N) return;
     float v = 0.0;
-    for (uint s = 0u; s < pc.splits; ++s) v += part[s * pc.M * pc.N + i];
-    if ((pc.flags & PG_GEMM_BIAS) != 0u) v += bias[i % pc.N];
-    if ((pc.flags & PG_GEMM_RESIDUAL) != 0u) v += res[i];
+    for (uint s = 0u; s < pc.splits; ++s) v += imageLoad(part, int(s * pc.M * pc.N + i)).x;
+    if ((pc.flags & PG_GEMM_BIAS) != 0u) v += imageLoad(bias, int(i % pc.N)).x;
+    if ((pc.flags & PG_GEMM_RESIDUAL) != 0u) v += imageLoad(res, int(i)).x;
     if ((pc.flags & PG_GEMM_GELU) != 0u) v = pg_gelu(v);
     y[i] = v;
 }

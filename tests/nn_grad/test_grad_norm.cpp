@@ -3,12 +3,16 @@
 // finite differences, bit-identical reruns.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
 
+#include "nn/ops/linear.h"
 #include "nn/train/grad_ops.h"
+#include "nn/train/grad_reduce.h"
+#include "shaders/nn/grad_shared.glsl"
 #include "tests/gpu_fixture.h"
 #include "tests/nn_grad/grad_test_util.h"
 #include "tests/reference/nn_dense_ref.h"
@@ -176,4 +180,42 @@ TEST_CASE("batch_norm training rejects a single row") {
     vk::CommandList cmd(pool->context());
     Tensor x = up(*pool, {1.0f, 2.0f}, {1, 2}), v = up(*pool, {1.0f, 1.0f}, {2});
     CHECK_THROWS_AS(nn::grad::batch_norm_train(cmd, *pool, x, v, v, v, v, kBnEps), std::invalid_argument);
+}
+
+// CPU devices sum each column in one pass (nn/grad_column_sums), GPUs in chunk partials and
+// their sum: the same float operations in the same order, so the same bits.
+TEST_CASE("column sums: the one-pass kernel equals the two passes bit for bit, in every mode") {
+    auto pool = nn::Pool::create(pg::test::gpu());
+    struct Shape {
+        int64_t rows, cols;
+    };
+    for (const Shape sh : {Shape{1, 1}, Shape{7, 3}, Shape{300, 17}, Shape{8192, 64}, Shape{20000, 9}})
+        for (uint32_t mode : {PG_COLSUM_PLAIN, PG_COLSUM_SQDEV, PG_COLSUM_DEV, PG_COLSUM_ROWNORM}) {
+            INFO("rows " << sh.rows << " cols " << sh.cols << " mode " << mode);
+            const auto a = ref::random_uniform(size_t(sh.rows * sh.cols), 31 + mode, -2.0f, 3.0f);
+            const auto b = ref::random_uniform(size_t(sh.rows * sh.cols), 37 + mode, -1.0f, 1.0f);
+            const auto v = ref::random_uniform(size_t(std::max(sh.cols, 3 * sh.rows)), 41 + mode, 0.5f, 1.5f);
+            const int64_t vn = int64_t(v.size());
+            std::vector<float> got[2];
+            for (int path = 0; path < 2; ++path) {
+                nn::ops::set_gemm_path(path == 0 ? nn::ops::GemmPath::Lanes : nn::ops::GemmPath::Tiled);
+                vk::CommandList cmd(pool->context());
+                const Tensor ta = up(*pool, a, {sh.rows, sh.cols}), tb = up(*pool, b, {sh.rows, sh.cols}),
+                             tv = up(*pool, v, {vn});
+                const Tensor out = nn::grad::detail::column_sums(cmd, *pool, mode, ta, tb, tv, uint64_t(sh.rows),
+                                                                 uint64_t(sh.cols), 0.25f);
+                cmd.submit_and_wait();
+                got[path] = down(*pool, out);
+            }
+            nn::ops::set_gemm_path(nn::ops::GemmPath::Auto);
+            REQUIRE(got[0].size() == size_t(sh.cols));
+            CHECK(same_bits(got[0], got[1]));
+            // And the sums are right: the plain mode against a double sum.
+            if (mode == PG_COLSUM_PLAIN)
+                for (int64_t c = 0; c < sh.cols; ++c) {
+                    double want = 0;
+                    for (int64_t r = 0; r < sh.rows; ++r) want += a[size_t(r * sh.cols + c)];
+                    CHECK(got[0][size_t(c)] == Approx(0.25 * want).margin(1e-3));
+                }
+        }
 }
