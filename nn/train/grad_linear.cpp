@@ -51,6 +51,9 @@ Tensor weight_grad(vk::CommandList& cmd, Pool& pool, const Tensor& dy, const Ten
         if (width % 8 == 0 && c % 8 == 0)
             cmd.dispatch("nn/grad_transpose_rows8", {src, table, t}, push,
                          ceil_div(uint64_t(width / 8) * (padded / 8), PG_GRAD_THREADS));
+        else if (ops::detail::use_lanes(pool.context()))
+            cmd.dispatch("nn/grad_transpose_rows_tap", {src, table, t}, push,
+                         ceil_div(uint64_t(map ? taps : 1u) * (padded / 8), PG_GRAD_THREADS));
         else
             cmd.dispatch("nn/grad_transpose_rows", {src, table, t}, push, ceil_div(uint64_t(width) * padded, PG_GRAD_THREADS));
         return t;

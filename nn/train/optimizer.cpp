@@ -35,14 +35,40 @@ void AdamW::step(vk::CommandList& cmd, const std::vector<Tensor>& params, const 
     ++step_;
     // As PyTorch: the current beta1 (which the schedule cycles) to the power of the step count.
     const double bias1 = 1 - std::pow(beta1, double(step_)), bias2 = 1 - std::pow(options_.beta2, double(step_));
-    for (size_t i = 0; i < params.size(); ++i) {
+    for (size_t i = 0; i < params.size(); ++i)
         if (params[i].shape != grads[i].shape || params[i].dtype != DType::F32 || grads[i].dtype != DType::F32)
             throw std::invalid_argument("AdamW: gradient " + std::to_string(i) + " has shape " + grads[i].shape_string() +
                                         ", its parameter " + params[i].shape_string());
-        const uint32_t n = uint32_t(params[i].numel());
-        const grad::gpu::AdamWPush push{n, float(lr), float(beta1), float(options_.beta2), float(options_.eps),
-                                        float(options_.weight_decay), float(bias1), float(std::sqrt(bias2))};
-        cmd.dispatch("nn/adamw", {params[i], grads[i], m_[i], v_[i]}, push, vk::ceil_div(n, PG_GRAD_THREADS));
+    // PG_ADAMW_SETS tensors per dispatch: on CPU devices each dispatch's fixed cost outweighs a
+    // small tensor's update.
+    constexpr size_t kSets = PG_ADAMW_SETS;
+    static_assert(7 * kSets == 28, "nn/adamw binds 7 buffers per tensor, 28 in all");
+    for (size_t first = 0; first < params.size(); first += kSets) {
+        grad::gpu::AdamWPush push{};
+        push.lr = float(lr), push.beta1 = float(beta1), push.beta2 = float(options_.beta2);
+        push.eps = float(options_.eps), push.weight_decay = float(options_.weight_decay);
+        push.bias1 = float(bias1), push.bias2_sqrt = float(std::sqrt(bias2));
+        std::vector<vk::BufferRange> bind;
+        bind.reserve(7 * kSets);
+        uint32_t groups = 0;
+        for (size_t s = 0; s < kSets; ++s) {
+            const size_t i = first + s < params.size() ? first + s : first;  // unused sets: set 0's buffers
+            // Read views of p, g, m, v, then p, m, v written (nn/adamw).
+            for (const Tensor* t : std::initializer_list<const Tensor*>{&params[i], &grads[i], &m_[i], &v_[i],
+                                                                          &params[i], &m_[i], &v_[i]})
+                bind.push_back(*t);
+            push.first_group[s] = groups;
+            if (first + s >= params.size()) continue;
+            push.count[s] = uint32_t(params[i].numel());
+            groups += vk::ceil_div(push.count[s], PG_GRAD_THREADS);
+        }
+        for (size_t s = 0; s < kSets; ++s)
+            if (first + s >= params.size()) push.first_group[s] = groups;
+        cmd.dispatch("nn/adamw",
+                     {bind[0], bind[1], bind[2], bind[3], bind[4], bind[5], bind[6], bind[7], bind[8], bind[9],
+                      bind[10], bind[11], bind[12], bind[13], bind[14], bind[15], bind[16], bind[17], bind[18],
+                      bind[19], bind[20], bind[21], bind[22], bind[23], bind[24], bind[25], bind[26], bind[27]},
+                     push, groups);
     }
 }
 

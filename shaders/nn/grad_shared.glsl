@@ -95,9 +95,13 @@ struct LovaszPush {
 };
 
 // nn/adamw: one AdamW step over `count` parameters (bias1 = 1 - beta1^t, bias2_sqrt = sqrt(1 - beta2^t)).
+// nn/adamw: up to PG_ADAMW_SETS tensors of `count` elements, tensor s from workgroup
+// first_group[s] (first_group[s] <= first_group[s + 1]; sets past the last have count 0).
+#define PG_ADAMW_SETS 4
 struct AdamWPush {
-    uint count;
-    float lr, beta1, beta2, eps, weight_decay, bias1, bias2_sqrt;
+    uint first_group[PG_ADAMW_SETS];
+    uint count[PG_ADAMW_SETS];
+    float lr, beta1, beta2, eps, weight_decay, bias1, bias2_sqrt, pad;
 };
 
 // nn/scale_rows: y[r, c] = x[r, c] * s[r] over n = rows * channels values.
@@ -112,7 +116,7 @@ struct ScaleRowsPush {
 #define PG_CE_VALUES 3
 
 #ifdef __cplusplus
-static_assert(sizeof(AdamWPush) == 32);
+static_assert(sizeof(AdamWPush) == 64);
 static_assert(sizeof(ScaleRowsPush) == 8);
 }  // namespace pg::nn::grad::gpu
 #endif
