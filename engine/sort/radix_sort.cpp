@@ -49,6 +49,8 @@ RadixSort::RadixSort(vk::Context& ctx) : ctx_(ctx), scan_(ctx) {
         direct = m == "direct";
     }
     scatter_shader_ = direct ? "sort/radix_scatter_direct" : "sort/radix_scatter";
+    // The same devices sort up to PG_SORT_SMALL items in one dispatch (sort/radix_sort_block).
+    small_ = direct;
 }
 
 void RadixSort::sort(vk::CommandList& cmd, vk::Buffer& keys, vk::Buffer& values, uint32_t count, uint32_t key_bits,
@@ -103,6 +105,12 @@ void RadixSort::grow(vk::Buffer& buffer, VkDeviceSize bytes, const char* name) {
 void RadixSort::record(vk::CommandList& cmd, vk::Buffer& keys, vk::Buffer& values, uint32_t capacity,
                        uint32_t key_bits, KeyWidth width) {
     const uint32_t words = key_words(width);
+    if (small_ && capacity <= PG_SORT_SMALL) {
+        const VkDeviceSize key_bytes = VkDeviceSize(capacity) * 4 * words, value_bytes = VkDeviceSize(capacity) * 4;
+        cmd.dispatch("sort/radix_sort_block", {params_, vk::BufferRange(keys, 0, key_bytes), vk::BufferRange(values, 0, value_bytes)},
+                     gpu::RadixBlockPush{key_bits, words, 0, 0}, 1);
+        return;
+    }
     const uint32_t stride = blocks(capacity);
     const uint32_t table = kRadix * stride;
     const VkDeviceSize key_bytes = VkDeviceSize(capacity) * 4 * words, value_bytes = VkDeviceSize(capacity) * 4;

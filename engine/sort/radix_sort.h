@@ -7,7 +7,8 @@
 // items into a digit-major table, PrefixSum scans it, sort/radix_scatter ranks each block
 // stably in shared memory and writes items to their place (sort/radix_scatter_direct on CPU
 // devices). Exact and deterministic on any device and subgroup size (no subgroup operations,
-// no atomics). The count lives on the GPU (indirect dispatch), so sort() and sort_indirect()
+// no atomics). On CPU devices up to PG_SORT_SMALL items sort in one dispatch, every pass in one
+// workgroup's shared memory (sort/radix_sort_block). The count lives on the GPU (indirect dispatch), so sort() and sort_indirect()
 // share every kernel. Bits above key_bits are ignored for order and kept. The keys of the
 // capacity must fit one storage binding (lavapipe: 128 MiB, 16M 64-bit keys).
 #include <cstdint>
@@ -44,6 +45,7 @@ private:
     vk::Context& ctx_;
     PrefixSum scan_;
     std::string scatter_shader_;  // sort/radix_scatter (GPUs) or sort/radix_scatter_direct (CPUs)
+    bool small_ = false;          // sorts of at most PG_SORT_SMALL items in one dispatch (CPUs)
     // Scratch, grown on demand and reused: ping-pong keys/values, the digit-major histogram
     // table (16 x blocks of the capacity) and its scan, and the parameter buffer (indirect
     // arguments + count).

@@ -19,6 +19,10 @@ using uint = uint32_t;
 // an invocation counts its own items in 4-bit fields, so PG_SORT_ITEMS must stay below 16.
 #define PG_SORT_DIGIT_BITS 4
 #define PG_SORT_RADIX 16
+// sort/radix_sort_block: a whole sort in one workgroup's shared memory (32 KiB on lavapipe:
+// three words per item, then the block scan's table), for at most PG_SORT_SMALL items.
+#define PG_SORT_SMALL_ITEMS 10
+#define PG_SORT_SMALL (PG_SORT_THREADS * PG_SORT_SMALL_ITEMS)
 // Layout of the sorter's parameter buffer: indirect dispatch arguments, then the item count.
 #define PG_SORT_PARAM_ARGS 0
 #define PG_SORT_PARAM_COUNT 3
@@ -33,6 +37,13 @@ struct RadixPush {
     uint mask;       // (1 << digit bits) - 1; the last pass may use fewer than 4 bits
     uint stride;     // blocks of the capacity: the histogram table is digit-major, RADIX x stride
     uint key_words;  // 1 for 32-bit keys, 2 for 64-bit keys (low word first)
+};
+
+// sort/radix_sort_block: every pass over the low key_bits bits.
+struct RadixBlockPush {
+    uint key_bits;
+    uint key_words;  // 1 or 2
+    uint pad0, pad1;
 };
 
 // sort/radix_setup: GPU count -> clamped count and indirect arguments.

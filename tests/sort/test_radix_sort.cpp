@@ -87,10 +87,12 @@ void check_sort(vk::Context& ctx, sort::RadixSort& sorter, const std::vector<Key
     CHECK(first_difference(got_keys, want_keys) == n);
 }
 
-// Sizes 0, 1, odd, 2^k - 1, 2^k, 2^k + 1, and around one and two blocks (3072 items).
+// Sizes 0, 1, odd, 2^k - 1, 2^k, 2^k + 1, around one and two blocks (3072 items) and the
+// one-workgroup sort's limit.
 std::vector<uint32_t> sizes_around_block() {
     std::vector<uint32_t> sizes = {0, 1, 2, 3, 999};
-    for (uint32_t base : {1u << 8, 1u << 11, 1u << 12, 1u << 13, 1u << 16, 3072u, 6144u})
+    // PG_SORT_SMALL (2560): the largest sort CPU devices do in one workgroup (sort/radix_sort_block).
+    for (uint32_t base : {1u << 8, 1u << 11, 1u << 12, 1u << 13, 1u << 16, 2560u, 3072u, 6144u})
         for (int d : {-1, 0, 1}) sizes.push_back(base + uint32_t(d));
     return sizes;
 }
@@ -147,23 +149,26 @@ TEST_CASE("radix sort keeps heavily duplicated keys in input order") {
 TEST_CASE("radix sort ignores key bits above key_bits for order and keeps them in the output") {
     auto& ctx = test::gpu();
     sort::RadixSort sorter(ctx);
-    const uint32_t n = 20011;
     // Odd pass counts (1, 5, 9, 11) end with the copy back from scratch; 0 bits is the identity.
-    for (uint32_t bits : {0u, 1u, 4u, 5u, 13u, 20u, 31u})
-        check_sort(ctx, sorter, random_keys<uint32_t>(n, 500 + bits), bits);
-    for (uint32_t bits : {1u, 13u, 32u, 33u, 36u, 37u, 44u, 63u})
-        check_sort(ctx, sorter, random_keys<uint64_t>(n, 600 + bits), bits);
+    // 2500 items: every pass in one workgroup on CPU devices.
+    for (uint32_t n : {20011u, 2500u}) {
+        for (uint32_t bits : {0u, 1u, 4u, 5u, 13u, 20u, 31u})
+            check_sort(ctx, sorter, random_keys<uint32_t>(n, 500 + bits), bits);
+        for (uint32_t bits : {1u, 13u, 32u, 33u, 36u, 37u, 44u, 63u})
+            check_sort(ctx, sorter, random_keys<uint64_t>(n, 600 + bits), bits);
+    }
 }
 
 TEST_CASE("radix sort_indirect reads the count on the GPU and leaves items past it alone") {
     auto& ctx = test::gpu();
     sort::RadixSort sorter(ctx);
-    const uint32_t capacity = 10000;
     const VkDeviceSize count_offset = 260;  // not on a binding alignment
     vk::Buffer count_buf(ctx, 512, vk::MemoryUse::Device, "count");
+    // A capacity of 2000 sorts in one workgroup on CPU devices, whatever the count.
+    for (uint32_t capacity : {10000u, 2000u})
     for (uint32_t key_bits : {32u, 44u}) {
         const bool wide = key_bits > 32;
-        for (uint32_t count : {0u, 1u, 2u, 2047u, 2048u, 2049u, 5000u, 9999u, 10000u, 12345u}) {
+        for (uint32_t count : {0u, 1u, 2u, 1999u, 2000u, 2047u, 2048u, 2049u, 5000u, 9999u, 10000u, 12345u}) {
             INFO("count = " << count << ", capacity = " << capacity << ", key_bits = " << key_bits);
             const uint32_t n = std::min(count, capacity);
             auto keys = random_keys<uint64_t>(capacity, 700 + count);
