@@ -43,7 +43,11 @@ void AdamW::step(vk::CommandList& cmd, const std::vector<Tensor>& params, const 
     // small tensor's update.
     constexpr size_t kSets = PG_ADAMW_SETS;
     static_assert(7 * kSets == 28, "nn/adamw binds 7 buffers per tensor, 28 in all");
-    for (size_t first = 0; first < params.size(); first += kSets) {
+    // Empty tensors have nothing to update (and no texel to view).
+    std::vector<size_t> live;
+    for (size_t i = 0; i < params.size(); ++i)
+        if (params[i].numel() > 0) live.push_back(i);
+    for (size_t first = 0; first < live.size(); first += kSets) {
         grad::gpu::AdamWPush push{};
         push.lr = float(lr), push.beta1 = float(beta1), push.beta2 = float(options_.beta2);
         push.eps = float(options_.eps), push.weight_decay = float(options_.weight_decay);
@@ -52,18 +56,18 @@ void AdamW::step(vk::CommandList& cmd, const std::vector<Tensor>& params, const 
         bind.reserve(7 * kSets);
         uint32_t groups = 0;
         for (size_t s = 0; s < kSets; ++s) {
-            const size_t i = first + s < params.size() ? first + s : first;  // unused sets: set 0's buffers
+            const size_t i = live[first + s < live.size() ? first + s : first];  // unused sets: set 0's buffers
             // Read views of p, g, m, v, then p, m, v written (nn/adamw).
             for (const Tensor* t : std::initializer_list<const Tensor*>{&params[i], &grads[i], &m_[i], &v_[i],
                                                                           &params[i], &m_[i], &v_[i]})
                 bind.push_back(*t);
             push.first_group[s] = groups;
-            if (first + s >= params.size()) continue;
+            if (first + s >= live.size()) continue;
             push.count[s] = uint32_t(params[i].numel());
             groups += vk::ceil_div(push.count[s], PG_GRAD_THREADS);
         }
         for (size_t s = 0; s < kSets; ++s)
-            if (first + s >= params.size()) push.first_group[s] = groups;
+            if (first + s >= live.size()) push.first_group[s] = groups;
         cmd.dispatch("nn/adamw",
                      {bind[0], bind[1], bind[2], bind[3], bind[4], bind[5], bind[6], bind[7], bind[8], bind[9],
                       bind[10], bind[11], bind[12], bind[13], bind[14], bind[15], bind[16], bind[17], bind[18],
