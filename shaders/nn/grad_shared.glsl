@@ -94,9 +94,9 @@ struct LovaszPush {
     float scale;
 };
 
-// nn/adamw: one AdamW step over `count` parameters (bias1 = 1 - beta1^t, bias2_sqrt = sqrt(1 - beta2^t)).
-// nn/adamw: up to PG_ADAMW_SETS tensors of `count` elements, tensor s from workgroup
-// first_group[s] (first_group[s] <= first_group[s + 1]; sets past the last have count 0).
+// nn/adamw: one AdamW step over up to PG_ADAMW_SETS tensors of count[s] elements, tensor s from
+// workgroup first_group[s] (first_group[s] <= first_group[s + 1]; sets past the last have count
+// 0); bias1 = 1 - beta1^t, bias2_sqrt = sqrt(1 - beta2^t).
 #define PG_ADAMW_SETS 4
 struct AdamWPush {
     uint first_group[PG_ADAMW_SETS];

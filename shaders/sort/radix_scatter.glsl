@@ -3,12 +3,9 @@
 // sort/radix_scatter (PG_RADIX_EXCHANGE 1, for GPUs) and sort/radix_scatter_direct
 // (PG_RADIX_EXCHANGE 0, for CPU devices).
 //
-// Stability without subgroup operations: invocation t owns the contiguous run of items
-// [t * ITEMS, (t + 1) * ITEMS) of its block, counts its digits in registers and stores the
-// counts in its column of a shared table laid out digit-major (digit, invocation). An
-// exclusive scan of that table in index order gives, for every (digit, t), the number of
-// items of the block that come before t's first item of that digit in sorted order; adding
-// t's running count gives each item its rank.
+// Stability without subgroup operations: sort/radix_rank.glsl (invocation t owns the run
+// [t * ITEMS, (t + 1) * ITEMS) of its block; a scanned (digit, invocation) counter table
+// gives each item its rank in the block).
 //
 // With PG_RADIX_EXCHANGE the ranked items pass through shared memory so that consecutive
 // invocations write consecutive addresses (coalesced). Without it each invocation writes its
@@ -38,6 +35,9 @@ shared uint s_buffer[ROWS * PG_SORT_THREADS];
 // Per digit: global offset of the digit's first item in this block, minus its block rank.
 shared uint s_base[PG_SORT_RADIX];
 #include "sort/block_scan.glsl"
+#define PG_RADIX_TABLE s_buffer
+#define PG_RADIX_RANK_ITEMS PG_SORT_ITEMS
+#include "sort/radix_rank.glsl"
 
 void main() {
     uint n = params[PG_SORT_PARAM_COUNT];
@@ -67,40 +67,13 @@ void main() {
         }
     }
 
-    // Count per (digit, invocation); rank[i] starts as the item's place among t's own items
-    // of its digit.
-    uint low = 0u, high = 0u;
-    for (uint i = 0u; i < PG_SORT_ITEMS; ++i) rank[i] = pg_radix_count(digit[i], low, high);
-    for (uint r = 0u; r < ROWS; ++r) s_buffer[r * PG_SORT_THREADS + t] = pg_radix_counter_word(r, low, high);
-    barrier();
-
-    // Exclusive scan of the counter table in index order: invocation t scans words
-    // [t * ROWS, (t + 1) * ROWS). Both 16-bit halves scan at once: the low half never
-    // carries, as it counts at most PG_SORT_BLOCK < 2^16 items.
-    uint words[ROWS];
-    uint sum = 0u;
-    for (uint i = 0u; i < ROWS; ++i) {
-        words[i] = s_buffer[t * ROWS + i];
-        sum += words[i];
-    }
-    uint total;
-    uint run = pg_block_exclusive_scan(sum, total);
-    for (uint i = 0u; i < ROWS; ++i) {
-        s_buffer[t * ROWS + i] = run;
-        run += words[i];
-    }
-    barrier();
-    // The high half (digits ROWS..RADIX-1) comes after every item of the low digits.
-    uint low_items = total & 0xFFFFu;
+    uint low_items = pg_radix_block_ranks(digit, rank);
+    // Each digit's global offset less its block rank, from the scanned table (the high half's
+    // digits come after every item of the low ones).
     if (t < PG_SORT_RADIX) {
         uint w = s_buffer[(t % ROWS) * PG_SORT_THREADS];
         uint start = t < ROWS ? (w & 0xFFFFu) : (w >> 16u) + low_items;
         s_base[t] = offsets[t * pc.stride + b] - start;
-    }
-    for (uint i = 0u; i < PG_SORT_ITEMS; ++i) {
-        uint d = digit[i];
-        uint w = s_buffer[(d % ROWS) * PG_SORT_THREADS + t];
-        rank[i] += ((w >> (16u * (d / ROWS))) & 0xFFFFu) + (d >= ROWS ? low_items : 0u);
     }
     barrier();
 
