@@ -60,6 +60,10 @@ bool use_rulebook(vk::Context& ctx, int64_t M, int64_t cin, int64_t N) {
     return g_path == ConvPath::Rulebook || M >= 65536;
 }
 
+// Lanes kernels take one pair per invocation; a tap holds about M/4 to M/2 pairs on surfaces,
+// and small groups leave fewer lanes idle on short tables.
+uint32_t lanes_rows_per_group(int64_t M) { return M <= 128 ? 32 : M <= 512 ? 128 : 256; }
+
 // The deepest chunk that divides Cin: each chunk re-reads and re-writes the rows of y. Deeper
 // ones run faster still (128: -20% at Cin 256) but take llvmpipe seconds to compile (128: 2.5 s,
 // 256: 10 s, 64: 0.5 s), paid again by every process.
@@ -87,15 +91,53 @@ constexpr ConvLanesVariant kConvLanesVariants[] = {
     {256, 64, "nn/conv_lanes_w256_k64"},
 };
 
-const char* conv_lanes_shader(uint32_t wg, uint32_t kc) {
+// The lanes kernel of wg pairs per workgroup and chunk depth kc, one tap a dispatch or all taps
+// (gemm_lanes.glsl's TAPS).
+std::string conv_lanes_shader(uint32_t wg, uint32_t kc, bool taps) {
     for (const ConvLanesVariant& v : kConvLanesVariants)
-        if (v.wg == wg && v.kc == kc) return v.shader;
+        if (v.wg == wg && v.kc == kc) return std::string(v.shader) + (taps ? "_taps" : "_tap");
     throw std::logic_error("sparse_conv: no lanes kernel for " + std::to_string(wg) + " pairs, depth " +
                            std::to_string(kc));
 }
 
+// On CPU drivers a convolution whose taps' slices hold at most this many floats (16 MiB) runs
+// every tap in one dispatch. Small tables fill a few row groups per tap, so a dispatch per tap
+// mostly paid its fixed cost and kept one core busy; large ones pay for the slices' traffic,
+// taps x rows x channels written and read again, where a dispatch per tap adds into y in cache.
+// (Lavapipe, GPU ms of one convolution, per tap -> all taps: 2048 x 16 channels 3.5-5.1 -> 3.1-3.5,
+// 512 x 32 2.9-4.3 -> 1.3-1.6, 128 x 32 1.5-2.5 -> 0.6-0.7; but 3880 x 64, 6.7 M floats of
+// slices, 16-20 -> 22-23. The tiny config's training step: its convolutions' kernels 100-105 ->
+// 66-67 ms, 585 -> 70 dispatches.)
+constexpr uint64_t kMaxPartialFloats = uint64_t(1) << 22;
+
+bool all_taps(int64_t M, int64_t T, int64_t N) { return uint64_t(M) * uint64_t(T) * uint64_t(N) <= kMaxPartialFloats; }
+
 bool rulebook_in_range(vk::Context& ctx, int64_t M, int64_t T) {
     return uint64_t(M) * uint64_t(T) * 8 <= ctx.info().max_storage_buffer_range;
+}
+
+// Lanes kernels, every tap in one dispatch per depth chunk (sized by the rulebook's schedule):
+// each tap's products go to its own slice of `part` (an output row appears at most once per tap,
+// so no two lanes write one value), and nn/conv_reduce adds the slices onto the bias in tap order.
+void lanes_all_taps(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Rulebook& rules, const Tensor& w,
+                    const Tensor& bias, const Tensor& y) {
+    const int64_t cin = x.dim(1), M = rules.rows(), T = rules.taps(), N = w.dim(0);
+    vk::Context& ctx = pool.context();
+    const uint32_t kc = lanes_chunk(cin);
+    const std::string shader = conv_lanes_shader(lanes_rows_per_group(M), kc, true);
+    const uint32_t col_tiles = ceil_div(uint64_t(N), PG_LANES_NC);
+    Tensor part = pool.empty({T, M, N});
+    Tensor args = pool.empty({3}, DType::U32);
+    cmd.dispatch("nn/conv_taps_args", {rules.schedule, args},
+                 gpu::ConvTapsArgsPush{uint32_t(T), col_tiles, ctx.max_group_count_x()}, 1);
+    gpu::GemmPush push{uint32_t(M), uint32_t(N), uint32_t(T * cin), 0, 0, uint32_t(cin), uint32_t(T), col_tiles};
+    for (int64_t k = 0; k < cin; k += kc) {
+        push.k0 = uint32_t(k);
+        push.flags = k == 0 ? PG_GEMM_FIRST : 0u;
+        cmd.dispatch_indirect(shader, {x, w, w, x, part, rules.pairs, rules.counts, rules.schedule}, push, *args.buffer, 0);
+    }
+    const gpu::ConvReducePush rp{uint32_t(M), uint32_t(N), uint32_t(T), bias.defined() ? PG_GEMM_BIAS : 0u};
+    cmd.dispatch("nn/conv_reduce", {part, rules.nbr, bias.defined() ? bias : w, y}, rp, ceil_div(uint64_t(M) * N / 4, 256));
 }
 
 }  // namespace
@@ -116,6 +158,14 @@ Rulebook build_rulebook(vk::CommandList& cmd, Pool& pool, const Tensor& nbr) {
     if (n > 0)
         cmd.dispatch("nn/conv_rules", {nbr, r.counts, r.pairs}, gpu::ConvRulesPush{uint32_t(M), uint32_t(T)},
                      uint64_t(ceil_div(uint64_t(M), 256)) * uint64_t(T));
+    if (n > 0 && all_taps(M, T, 8)) {
+        // For the all-taps lanes kernels, where some convolution over the table may take them (a
+        // GPU builds it too: one invocation, and tests move rulebooks between kernel families).
+        // Each tap's pairs fill at most ceil(M / wg) row groups.
+        const uint32_t wg = lanes_rows_per_group(M);
+        r.schedule = pool.empty({2 * T + 1 + int64_t(ceil_div(uint64_t(M), wg)) * T}, DType::U32);
+        cmd.dispatch("nn/conv_schedule", {r.counts, r.schedule}, gpu::ConvSchedulePush{uint32_t(T), wg}, 1);
+    }
     return r;
 }
 
@@ -127,22 +177,29 @@ Tensor sparse_conv(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Rule
     if (!use_rulebook(ctx, M, cin, N)) return detail::gathered_conv(cmd, pool, x, rules.nbr, w, bias);
     Tensor y = pool.empty({M, N});
     if (M == 0 || N == 0) return y;
+    if (T == 0) {
+        const gpu::ConvInitPush init{uint32_t(M), uint32_t(N), bias.defined() ? PG_GEMM_BIAS : 0u};
+        cmd.dispatch("nn/conv_init", {bias.defined() ? bias : w, y}, init, ceil_div(uint64_t(M) * N, 256));
+        return y;
+    }
+
+    const bool lanes = detail::use_lanes(ctx);
+    if (lanes && all_taps(M, T, N)) {
+        lanes_all_taps(cmd, pool, x, rules, w, bias, y);
+        return y;
+    }
+    // One GEMM per tap over its pairs, each adding into y, sized on the GPU (indirect): taps
+    // without pairs are free.
     const gpu::ConvInitPush init{uint32_t(M), uint32_t(N), bias.defined() ? PG_GEMM_BIAS : 0u};
     cmd.dispatch("nn/conv_init", {bias.defined() ? bias : w, y}, init, ceil_div(uint64_t(M) * N, 256));
-    if (T == 0) return y;
-
-    // One GEMM per tap over its pairs, sized on the GPU (indirect): taps without pairs are free.
-    const bool lanes = detail::use_lanes(ctx);
-    // Lanes: one pair per invocation; a tap holds about M/4 to M/2 pairs on surfaces, and
-    // small groups leave fewer lanes idle on short tables.
-    const uint32_t wg = lanes ? (M <= 128 ? 32 : M <= 512 ? 128 : 256) : PG_TILE_M;
+    const uint32_t wg = lanes ? lanes_rows_per_group(M) : PG_TILE_M;
     const uint32_t col_tiles = ceil_div(uint64_t(N), lanes ? PG_LANES_NC : PG_TILE_N);
     Tensor args = pool.empty({3 * T}, DType::U32);
     cmd.dispatch("nn/conv_args", {rules.counts, args}, gpu::ConvArgsPush{uint32_t(T), wg, col_tiles, ctx.max_group_count_x()},
                  ceil_div(uint64_t(T), 64));
     // Lanes kernels take one depth chunk (within a tap) per dispatch; tiled ones walk the tap.
     const uint32_t kc = lanes ? lanes_chunk(cin) : uint32_t(cin);
-    const char* shader = lanes ? conv_lanes_shader(wg, kc) : "nn/conv_tiled";
+    const std::string shader = lanes ? conv_lanes_shader(wg, kc, false) : "nn/conv_tiled";
     gpu::GemmPush push{uint32_t(M), uint32_t(N), uint32_t(T * cin), 0, 0, uint32_t(cin), uint32_t(T), col_tiles};
     for (int64_t t = 0; t < T; ++t)
         for (int64_t k = 0; k < cin; k += kc) {

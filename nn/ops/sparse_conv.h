@@ -1,9 +1,13 @@
 #pragma once
 // Submanifold sparse convolution over a rulebook: per kernel offset (tap), the list of
-// (output row, input row) pairs the neighbour table holds. The convolution is then one GEMM per
-// tap over that tap's pairs only, each adding into y (an output row appears at most once per
-// tap, so the adds never collide); missing neighbours cost nothing. A rulebook depends only on
-// the neighbour table: build it once per table and reuse it for every convolution over it.
+// (output row, input row) pairs the neighbour table holds. The convolution is then a GEMM per
+// tap over that tap's pairs only (an output row appears at most once per tap, so no two pairs
+// of a tap write one row); missing neighbours cost nothing. Each tap's products are added into
+// y, one dispatch per tap, except on CPU drivers where taps x rows x channels is at most 4 M:
+// there every tap runs in one dispatch into a slice per tap, added in tap order after
+// (nn/conv_reduce), and the rulebook carries the schedule that sizes that dispatch. A rulebook
+// depends only on the neighbour table:
+// build it once per table and reuse it for every convolution over it.
 #include "nn/tensor.h"
 
 namespace pg::nn::ops {
@@ -12,6 +16,7 @@ struct Rulebook {
     Tensor nbr;     // [M, T] I32, the table it was built from
     Tensor pairs;   // U32 [T, M, 2]: tap t's (output row, input row) pairs, pairs[t][0, counts[t])
     Tensor counts;  // U32 [T]
+    Tensor schedule;  // U32, small tables: the taps' row groups for the all-taps kernels (nn/conv_schedule)
     int64_t rows() const { return nbr.dim(0); }
     int64_t taps() const { return nbr.dim(1); }
 };
@@ -20,7 +25,7 @@ struct Rulebook {
 Rulebook build_rulebook(vk::CommandList& cmd, Pool& pool, const Tensor& nbr);
 
 // sparse_conv (nn/ops/linear.h) over a prebuilt rulebook of its neighbour table: the same result
-// (bit for bit with the lanes kernels; the tiled ones add the bias first, so rounding differs).
+// up to rounding (each tap's products are summed apart, then added to the bias).
 Tensor sparse_conv(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Rulebook& rules, const Tensor& w,
                    const Tensor& bias);
 

@@ -1,5 +1,5 @@
 #version 450
-// gemm_lanes.glsl over one tap of a sparse-convolution rulebook: 128 pairs per workgroup, depth chunks of 16.
+// gemm_lanes.glsl over a sparse-convolution rulebook, one tap or all taps a dispatch (TAPS 0 / 1: shaders/CMakeLists.txt builds both): 128 pairs per workgroup, depth chunks of 16.
 #extension GL_GOOGLE_include_directive : require
 #define WG 128u
 #define KC 16u

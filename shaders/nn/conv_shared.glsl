@@ -25,6 +25,25 @@ struct ConvInitPush {
     uint M, N, flags;
 };
 
+// nn/conv_schedule: the row groups of rows_per_group pairs of every tap, numbered back to back
+// (the lanes kernels' TAPS variants): schedule[t] is tap t's first (t <= taps, schedule[taps]
+// the total), schedule[taps + 1 + r] the tap of row group r.
+struct ConvSchedulePush {
+    uint taps, rows_per_group;
+};
+
+// nn/conv_taps_args: the indirect dispatch of every tap's row groups from the schedule,
+// col_tiles workgroups per row group, folded past `limit`.
+struct ConvTapsArgsPush {
+    uint taps, col_tiles, limit;
+};
+
+// nn/conv_reduce: y[m, n] = (bias[n] with flags & PG_GEMM_BIAS, else 0) + the slices of the
+// taps whose neighbour exists (nbr[m, t] >= 0), in tap order.
+struct ConvReducePush {
+    uint M, N, taps, flags;
+};
+
 #ifdef __cplusplus
 }  // namespace pg::nn::gpu
 #endif

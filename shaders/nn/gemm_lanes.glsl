@@ -20,7 +20,11 @@
 // on every chunk: llvmpipe runs both sides of a branch), RULEBOOK (optional, with A_VEC and
 // Y_VEC: the rows are the pairs of one tap of a sparse-convolution rulebook, the tap whose
 // columns the chunk covers (cin % KC == 0, KC 16 allowed here); each adds its product into y
-// at its output row), SPLIT (optional, dense with A_VEC and Y_VEC: the depth is split over the
+// at its output row), TAPS (optional, with RULEBOOK: every tap in one dispatch, sized by the
+// rulebook's schedule; each tap's products go to its own slice of y at the output rows, chunk
+// pc.k0 of each tap's columns, and nn/conv_reduce adds the slices.
+// A dispatch per tap left coarse levels one workgroup, one core, and paid 27 dispatches' fixed
+// cost per convolution), SPLIT (optional, dense with A_VEC and Y_VEC: the depth is split over the
 // workgroups of one dispatch, slice s taking the chunk at pc.k0 + s * pc.slice_k and writing
 // its raw sum to y[s]; the host adds the slices. For deep products with few rows and columns, weight
 // gradients, where one dispatch per chunk left one workgroup, one core, and the dispatches'
@@ -36,6 +40,12 @@
 #endif
 #ifndef RULEBOOK
 #define RULEBOOK 0
+#endif
+#ifndef TAPS
+#define TAPS 0
+#endif
+#if TAPS && !RULEBOOK
+#error "TAPS is a RULEBOOK variant"
 #endif
 #if RULEBOOK && !(A_VEC && Y_VEC)
 #error "RULEBOOK needs A_VEC and Y_VEC"
@@ -69,6 +79,9 @@ layout(std430, binding = 4) buffer YBuf { float y1[]; };
 #if RULEBOOK
 layout(std430, binding = 5) readonly buffer PairBuf { uvec2 pairs[]; };  // [taps][M]: (output row, input row)
 layout(std430, binding = 6) readonly buffer CountBuf { uint counts[]; };  // pairs per tap
+#if TAPS
+layout(std430, binding = 7) readonly buffer ScheduleBuf { uint schedule[]; };
+#endif
 #else
 layout(std430, binding = 5) readonly buffer NbrBuf { int nbr[]; };
 #endif
@@ -95,6 +108,16 @@ void main() {
     const uint slice = pg_group_index() / tiles, g = pg_group_index() % tiles;
     const uint k0 = pc.k0 + slice * pc.slice_k;
     const uint ybase = slice * pc.M * pc.N;  // this slice's y
+#elif TAPS
+    // The schedule (nn/conv_schedule) numbers every tap's row groups back to back: tap t's from
+    // schedule[t] on, the tap of row group r at schedule[taps + 1 + r]. (Leaving early instead,
+    // from a dispatch of M / WG row groups for every tap, made llvmpipe run the kernel 8x slower.)
+    const uint rg_end = schedule[pc.taps], rg_want = pg_group_index() / pc.col_tiles;
+    const uint rg = min(rg_want, max(rg_end, 1u) - 1u);  // a folded dispatch's spare groups store nothing
+    const uint tap = schedule[pc.taps + 1u + rg];
+    const uint g = (rg - schedule[tap]) * pc.col_tiles + pg_group_index() % pc.col_tiles;
+    const uint k0 = tap * pc.cin + pc.k0;
+    const uint ybase = tap * pc.M * pc.N;  // this tap's slice
 #else
     const uint g = pg_group_index();
     const uint k0 = pc.k0;
@@ -104,11 +127,18 @@ void main() {
 #if RULEBOOK
     // Indirect dispatches cover exactly the tap's pairs; lanes past them compute on a copy of
     // its last pair and store nothing.
-    const uint tap = k0 / pc.cin, first = tap * pc.M, count = counts[tap];
+#if !TAPS
+    const uint tap = k0 / pc.cin;
+#endif
+    const uint first = tap * pc.M, count = counts[tap];
     const uint p = (g / pc.col_tiles) * WG + lid;
     const uvec2 pair = pairs[first + min(p, max(count, 1u) - 1u)];
     const uint mr = pair.x;
+#if TAPS
+    const bool store = p < count && rg_want < rg_end;
+#else
     const bool store = p < count;
+#endif
 #else
     const uint m = (g / pc.col_tiles) * WG + lid;
     const uint mr = min(m, pc.M - 1u);  // rows past M compute on a copy of the last row

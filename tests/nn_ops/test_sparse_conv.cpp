@@ -149,6 +149,15 @@ TEST_CASE("sparse_conv over a rulebook matches CPU with lanes kernels, 16-deep c
     check_conv(*pool, 200, 150, 125, 16, 32, true, 0.85, 24);
 }
 
+// Past 4 M floats of taps x rows x channels the lanes kernels run a dispatch per tap, each
+// adding into y, instead of all taps into slices at once.
+TEST_CASE("sparse_conv over a rulebook matches CPU with lanes kernels, a dispatch per tap") {
+    auto pool = nn::Pool::create(pg::test::gpu());
+    PathScope scope(GemmPath::Lanes, ConvPath::Auto);
+    check_conv(*pool, 2500, 2500, 27, 32, 64, true, 0.6, 81);   // 4.3 M: one dispatch per tap
+    check_conv(*pool, 900, 1000, 125, 48, 40, false, 0.9, 82);  // 5 M, three chunks of 16 per tap
+}
+
 TEST_CASE("sparse_conv over a rulebook matches CPU with the tiled kernel") {
     auto pool = nn::Pool::create(pg::test::gpu());
     PathScope scope(GemmPath::Tiled, ConvPath::Rulebook);
