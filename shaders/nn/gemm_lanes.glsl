@@ -22,9 +22,8 @@
 // columns the chunk covers (cin % KC == 0, KC 16 allowed here); each adds its product into y
 // at its output row), TAPS (optional, with RULEBOOK: every tap in one dispatch, sized by the
 // rulebook's schedule; each tap's products go to its own slice of y at the output rows, chunk
-// pc.k0 of each tap's columns, and nn/conv_reduce adds the slices.
-// A dispatch per tap left coarse levels one workgroup, one core, and paid 27 dispatches' fixed
-// cost per convolution), SPLIT (optional, dense with A_VEC and Y_VEC: the depth is split over the
+// pc.k0 of each tap's columns, and nn/conv_reduce adds the slices. A dispatch per tap left
+// small tables one workgroup, one core, and 27 dispatches' fixed cost per convolution), SPLIT (optional, dense with A_VEC and Y_VEC: the depth is split over the
 // workgroups of one dispatch, slice s taking the chunk at pc.k0 + s * pc.slice_k and writing
 // its raw sum to y[s]; the host adds the slices. For deep products with few rows and columns, weight
 // gradients, where one dispatch per chunk left one workgroup, one core, and the dispatches'
