@@ -102,7 +102,7 @@ void CommandList::touch(const Buffer& b) {
     touched_.push_back(b.handle());
 }
 
-ComputePipeline& CommandList::bind(const std::string& shader, std::initializer_list<BufferRange> buffers,
+ComputePipeline& CommandList::bind(const std::string& shader, std::span<const BufferRange> buffers,
                                    const void* push, uint32_t push_bytes) {
     begin_if_needed();
     // Hazards are judged on the whole set of this command's buffers before any is recorded.
@@ -162,7 +162,7 @@ ComputePipeline& CommandList::bind(const std::string& shader, std::initializer_l
     return p;
 }
 
-void CommandList::dispatch_raw(const std::string& shader, std::initializer_list<BufferRange> buffers,
+void CommandList::dispatch_raw(const std::string& shader, std::span<const BufferRange> buffers,
                                const void* push, uint32_t push_bytes, uint64_t groups_x, uint32_t groups_y) {
     if (groups_x == 0 || groups_y == 0) return;
     bind(shader, buffers, push, push_bytes);
@@ -181,7 +181,7 @@ void CommandList::dispatch_raw(const std::string& shader, std::initializer_list<
     ++dispatches_;
 }
 
-void CommandList::dispatch_indirect_raw(const std::string& shader, std::initializer_list<BufferRange> buffers,
+void CommandList::dispatch_indirect_raw(const std::string& shader, std::span<const BufferRange> buffers,
                                         const void* push, uint32_t push_bytes, const Buffer& args,
                                         VkDeviceSize offset) {
     begin_if_needed();

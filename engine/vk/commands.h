@@ -4,6 +4,7 @@
 // passes never write barriers by hand. Named passes get GPU timestamps.
 #include <cstdint>
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -47,31 +48,36 @@ public:
     // shader undoes with pg_group_index() from shaders/common/dispatch.glsl.
     template <class Push>
     void dispatch(const std::string& shader, std::initializer_list<BufferRange> buffers, const Push& push, uint64_t groups) {
+        dispatch_raw(shader, list(buffers), &push, sizeof(Push), groups, 1);
+    }
+    // The same with the bindings in an array: a count the caller builds up (nn/adamw's sets of tensors).
+    template <class Push>
+    void dispatch(const std::string& shader, std::span<const BufferRange> buffers, const Push& push, uint64_t groups) {
         dispatch_raw(shader, buffers, &push, sizeof(Push), groups, 1);
     }
     void dispatch(const std::string& shader, std::initializer_list<BufferRange> buffers, uint64_t groups) {
-        dispatch_raw(shader, buffers, nullptr, 0, groups, 1);
+        dispatch_raw(shader, list(buffers), nullptr, 0, groups, 1);
     }
     // A 2D grid (e.g. image tiles); each dimension must be within the device limit.
     template <class Push>
     void dispatch_2d(const std::string& shader, std::initializer_list<BufferRange> buffers, const Push& push,
                      uint32_t groups_x, uint32_t groups_y) {
-        dispatch_raw(shader, buffers, &push, sizeof(Push), groups_x, groups_y);
+        dispatch_raw(shader, list(buffers), &push, sizeof(Push), groups_x, groups_y);
     }
     void dispatch_2d(const std::string& shader, std::initializer_list<BufferRange> buffers, uint32_t groups_x,
                      uint32_t groups_y) {
-        dispatch_raw(shader, buffers, nullptr, 0, groups_x, groups_y);
+        dispatch_raw(shader, list(buffers), nullptr, 0, groups_x, groups_y);
     }
     // Group counts read from `args` at `offset` (three uints, written by an earlier pass).
     template <class Push>
     void dispatch_indirect(const std::string& shader, std::initializer_list<BufferRange> buffers, const Push& push,
                            const Buffer& args, VkDeviceSize offset = 0) {
-        dispatch_indirect_raw(shader, buffers, &push, sizeof(Push), args, offset);
+        dispatch_indirect_raw(shader, list(buffers), &push, sizeof(Push), args, offset);
     }
 
     void dispatch_indirect(const std::string& shader, std::initializer_list<BufferRange> buffers, const Buffer& args,
                            VkDeviceSize offset = 0) {
-        dispatch_indirect_raw(shader, buffers, nullptr, 0, args, offset);
+        dispatch_indirect_raw(shader, list(buffers), nullptr, 0, args, offset);
     }
 
     void fill(const Buffer& dst, uint32_t value, VkDeviceSize offset = 0, VkDeviceSize bytes = VK_WHOLE_SIZE);
@@ -99,11 +105,14 @@ public:
 private:
     void begin_if_needed();
     void touch(const Buffer& b);
-    void dispatch_raw(const std::string& shader, std::initializer_list<BufferRange> buffers, const void* push,
+    static std::span<const BufferRange> list(std::initializer_list<BufferRange> buffers) {
+        return {buffers.begin(), buffers.size()};
+    }
+    void dispatch_raw(const std::string& shader, std::span<const BufferRange> buffers, const void* push,
                       uint32_t push_bytes, uint64_t groups_x, uint32_t groups_y);
-    void dispatch_indirect_raw(const std::string& shader, std::initializer_list<BufferRange> buffers,
-                               const void* push, uint32_t push_bytes, const Buffer& args, VkDeviceSize offset);
-    ComputePipeline& bind(const std::string& shader, std::initializer_list<BufferRange> buffers, const void* push,
+    void dispatch_indirect_raw(const std::string& shader, std::span<const BufferRange> buffers, const void* push,
+                               uint32_t push_bytes, const Buffer& args, VkDeviceSize offset);
+    ComputePipeline& bind(const std::string& shader, std::span<const BufferRange> buffers, const void* push,
                           uint32_t push_bytes);
 
     Context& ctx_;

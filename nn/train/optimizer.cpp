@@ -68,11 +68,7 @@ void AdamW::step(vk::CommandList& cmd, const std::vector<Tensor>& params, const 
         }
         for (size_t s = 0; s < kSets; ++s)
             if (first + s >= live.size()) push.first_group[s] = groups;
-        cmd.dispatch("nn/adamw",
-                     {bind[0], bind[1], bind[2], bind[3], bind[4], bind[5], bind[6], bind[7], bind[8], bind[9],
-                      bind[10], bind[11], bind[12], bind[13], bind[14], bind[15], bind[16], bind[17], bind[18],
-                      bind[19], bind[20], bind[21], bind[22], bind[23], bind[24], bind[25], bind[26], bind[27]},
-                     push, groups);
+        cmd.dispatch("nn/adamw", bind, push, groups);
     }
 }
 
