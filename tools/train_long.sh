@@ -15,6 +15,9 @@ name=${2:-model}
 shift $(( $# < 2 ? $# : 2 ))
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
+# One run per folder: a second would write the same checkpoint.
+exec 9> "$out/.train_long.lock"
+flock -n 9 || { echo "train_long: another run holds $out" >&2; exit 1; }
 pg="$out/pointgauss"
 [ -x "$pg" ] || cp "$(cd "$(dirname "$0")/.." && pwd)/build/app/pointgauss" "$pg"
 data="$out/data"
