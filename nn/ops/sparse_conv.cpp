@@ -177,9 +177,13 @@ Tensor sparse_conv(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Rule
     if (!use_rulebook(ctx, M, cin, N)) return detail::gathered_conv(cmd, pool, x, rules.nbr, w, bias);
     Tensor y = pool.empty({M, N});
     if (M == 0 || N == 0) return y;
-    if (T == 0) {
+    // y = bias (or 0): where a dispatch per tap adds into y, and all of y without taps.
+    const auto init_y = [&] {
         const gpu::ConvInitPush init{uint32_t(M), uint32_t(N), bias.defined() ? PG_GEMM_BIAS : 0u};
         cmd.dispatch("nn/conv_init", {bias.defined() ? bias : w, y}, init, ceil_div(uint64_t(M) * N, 256));
+    };
+    if (T == 0) {
+        init_y();
         return y;
     }
 
@@ -190,8 +194,7 @@ Tensor sparse_conv(vk::CommandList& cmd, Pool& pool, const Tensor& x, const Rule
     }
     // One GEMM per tap over its pairs, each adding into y, sized on the GPU (indirect): taps
     // without pairs are free.
-    const gpu::ConvInitPush init{uint32_t(M), uint32_t(N), bias.defined() ? PG_GEMM_BIAS : 0u};
-    cmd.dispatch("nn/conv_init", {bias.defined() ? bias : w, y}, init, ceil_div(uint64_t(M) * N, 256));
+    init_y();
     const uint32_t wg = lanes ? lanes_rows_per_group(M) : PG_TILE_M;
     const uint32_t col_tiles = ceil_div(uint64_t(N), lanes ? PG_LANES_NC : PG_TILE_N);
     Tensor args = pool.empty({3 * T}, DType::U32);
