@@ -296,7 +296,8 @@ PixelPick Renderer::pick(int x, int y) {
     if (x < 0 || y < 0 || x >= width_ || y >= height_)
         throw std::out_of_range("Renderer::pick: pixel (" + std::to_string(x) + ", " + std::to_string(y) +
                                 ") is off the " + std::to_string(width_) + "x" + std::to_string(height_) + " frame");
-    // Both walks, window by window; the second does nothing where the first reached tau.
+    // Both walks, window by window: the first finds the dominant surface, the second its median
+    // and the tau Gaussian.
     for (uint32_t walk = 0; walk < 2; ++walk)
         for (uint32_t w = 0; w < windows_; ++w)
             cmd_.dispatch("render/pick_pixel",

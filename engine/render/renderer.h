@@ -64,7 +64,8 @@ struct RenderImages {
 // Where one pixel of a frame lands in depth (see Renderer::pick).
 struct PixelPick {
     // The pixel's dominant surface (its contributors split where they are apart in depth; the
-    // surface of largest summed weight alpha * T) and its heaviest Gaussian; -1: none.
+    // surface of largest summed weight alpha * T) and its weighted median, the Gaussian at which
+    // the surface's running weight reaches half its total; -1: none.
     int32_t surface_id = -1;
     float surface_depth = 0;  // that Gaussian's view-space depth
     float surface_weight = 0; // the surface's summed weight

@@ -21,7 +21,7 @@ namespace pg::seg {
 
 // Lifts pixel (u, v) of `camera` (column, row; the ray goes through the pixel's centre) by
 // `rule`: the anchor is the point of the ray at the chosen Gaussian's depth (the dominant
-// surface's heaviest Gaussian, or the one at which the opacity reached tau). A pixel that is
+// surface's weighted median Gaussian, or the one at which the opacity reached tau). A pixel that is
 // clearly covered (final opacity >= kMinLiftCoverage) but never reaches tau — a translucent
 // wall, a blurry edge, a thin part — takes tau x its final opacity under the tau rule: the
 // same fraction of what the ray meets.

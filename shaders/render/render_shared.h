@@ -90,9 +90,9 @@ struct PickPush {
     uvec4 pixel;        // x, y, window index, w: 0 first walk, 1 second walk (tau x opacity)
     uvec4 windows;      // x: windows of the pixel's tile, y, z, w: unused
 };
-PG_CONST uint kPickWalkWords = 14u;  // one walk's state between the pick's windows
+PG_CONST uint kPickWalkWords = 13u;  // one walk's state between the pick's windows
 struct PixelPick {
-    uvec4 ids;          // dominant surface's heaviest Gaussian, tau Gaussian (kNoGaussian: none), unused, unused
+    uvec4 ids;          // dominant surface's weighted median Gaussian, tau Gaussian (kNoGaussian: none), unused, unused
     vec4 depths;        // that Gaussian's depth, tau depth, unused, unused
     vec4 weights;       // the surface's summed weight alpha * T, final opacity 1 - T, the tau used, unused
 };

@@ -23,33 +23,32 @@ float ray_extent(const pg::data::GaussianCloud& cloud, size_t i, glm::vec3 ray, 
     return glm::length(along) * cos_z;
 }
 
-RefPick walk(const std::vector<Hit>& hits, float tau) {
-    RefPick r;
-    float T = 1.0f, cur_w = 0, cur_peak = 0, cur_depth = 0, last_depth = 0, last_size = 0;
-    int32_t cur_id = -1;
-    bool first = true;
-    const auto close = [&] {
-        if (cur_w > r.surface_weight) r.surface_weight = cur_w, r.surface_id = cur_id, r.surface_depth = cur_depth;
-    };
-    for (const Hit& h : hits) {
-        const float test_T = T * (1.0f - h.alpha);
+// The surfaces: each contributor's surface ordinal and weight alpha * T, the final transmittance
+// and the tau Gaussian.
+struct Walked {
+    std::vector<uint32_t> surface;
+    std::vector<float> w;
+    float T = 1.0f;
+    int32_t tau_id = -1;
+    float tau_depth = 0;
+};
+
+Walked walk(const std::vector<Hit>& hits, float tau) {
+    Walked r;
+    float last_depth = 0, last_size = 0;
+    uint32_t surface = 0;
+    for (size_t k = 0; k < hits.size(); ++k) {
+        const Hit& h = hits[k];
+        const float test_T = r.T * (1.0f - h.alpha);
         if (test_T < render::gpu::kTransmittanceMin) break;
-        const float w = h.alpha * T;
-        if (!first && h.depth - last_depth > render::gpu::kSurfaceGap * (h.size + last_size)) {
-            close();
-            cur_w = cur_peak = 0;
-        }
-        first = false;
-        cur_w += w;
-        if (w > cur_peak) cur_peak = w, cur_id = int32_t(h.index), cur_depth = h.depth;
+        if (k > 0 && h.depth - last_depth > render::gpu::kSurfaceGap * (h.size + last_size)) ++surface;
+        r.surface.push_back(surface);
+        r.w.push_back(h.alpha * r.T);
         last_depth = h.depth;
         last_size = h.size;
-        T = test_T;
-        if (r.tau_id < 0 && 1.0f - T >= tau) r.tau_id = int32_t(h.index), r.tau_depth = h.depth;
+        r.T = test_T;
+        if (r.tau_id < 0 && 1.0f - r.T >= tau) r.tau_id = int32_t(h.index), r.tau_depth = h.depth;
     }
-    close();
-    r.opacity = 1.0f - T;
-    r.tau = tau;
     return r;
 }
 
@@ -71,13 +70,36 @@ RefPick pick_reference(const pg::data::GaussianCloud& cloud, const pg::data::Cam
     std::sort(hits.begin(), hits.end(), [](const Hit& l, const Hit& r) {
         return l.depth < r.depth || (l.depth == r.depth && l.index < r.index);
     });
-    RefPick r = walk(hits, options.tau);
+    const Walked first = walk(hits, options.tau);
+    RefPick r;
+    r.opacity = 1.0f - first.T;
+    r.tau = options.tau;
+    r.tau_id = first.tau_id;
+    r.tau_depth = first.tau_depth;
     if (r.tau_id < 0 && r.opacity > 0) {
-        const RefPick again = walk(hits, options.tau * r.opacity);
+        const Walked again = walk(hits, options.tau * r.opacity);
         r.tau_id = again.tau_id;
         r.tau_depth = again.tau_depth;
-        r.tau = again.tau;
+        r.tau = options.tau * r.opacity;
     }
+    // The surface of largest summed weight (the first of equals), then its weighted median.
+    std::vector<float> total;
+    for (size_t k = 0; k < first.w.size(); ++k) {
+        if (first.surface[k] >= total.size()) total.resize(first.surface[k] + 1, 0.0f);
+        total[first.surface[k]] += first.w[k];
+    }
+    uint32_t best = 0;
+    for (uint32_t s = 0; s < total.size(); ++s)
+        if (total[s] > total[best]) best = s;
+    if (total.empty()) return r;
+    r.surface_weight = total[best];
+    float run = 0;
+    for (size_t k = 0; k < first.w.size(); ++k)
+        if (first.surface[k] == best && (run += first.w[k]) >= 0.5f * total[best]) {
+            r.surface_id = int32_t(hits[k].index);
+            r.surface_depth = hits[k].depth;
+            break;
+        }
     return r;
 }
 

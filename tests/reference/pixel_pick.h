@@ -2,8 +2,9 @@
 // CPU reference of render/pick_pixel.comp: one pixel's contributors walked front to back as
 // the reference rasterizer blends them, split into surfaces where two depth-consecutive ones
 // are further apart than kSurfaceGap x the sum of their deviations along the ray; the surface of largest summed
-// weight, its heaviest Gaussian, and the Gaussian at which the opacity reaches tau (or tau x
-// the final opacity where it never does).
+// weight, its weighted median (the Gaussian at which its running weight reaches half its total),
+// and the Gaussian at which the opacity reaches tau (or tau x the final opacity where it never
+// does).
 #include <cstdint>
 
 #include "tests/reference/cpu_rasterizer.h"

@@ -194,6 +194,34 @@ TEST_CASE("click lifting: a click on an object lifts onto it, though the ground 
     CHECK(surface.position.x / surface.position.z == Approx((33.5 - 32) / 60.0).margin(1e-5));
 }
 
+TEST_CASE("click lifting: a thin object that chains in depth into a large opaque Gaussian behind it keeps the click") {
+    // The object: the same partly transparent wall at z = 2; right behind it, a large opaque
+    // Gaussian 0.15 thick along the ray (a road under a car's body at a grazing view), near
+    // enough that the two make one surface. That Gaussian alone outweighs each of the wall's, but
+    // the wall holds most of the surface's weight: the surface's median, not its heaviest
+    // Gaussian, stands for it.
+    data::GaussianCloud cloud;
+    for (int y = -8; y <= 8; ++y)
+        for (int x = -8; x <= 8; ++x)
+            ref::add_gaussian(cloud, glm::vec3(x * 0.05f, y * 0.05f, 2.0f), glm::vec3(std::log(0.03f), std::log(0.03f), -6.0f),
+                              glm::vec4(1, 0, 0, 0), -1.2f, glm::vec3(0.0f));
+    const int32_t ground = int32_t(cloud.size());
+    ref::add_gaussian(cloud, glm::vec3(0.0f, 0.0f, 2.3f), glm::vec3(std::log(2.0f), std::log(2.0f), std::log(0.15f)),
+                      glm::vec4(1, 0, 0, 0), 6.0f, glm::vec3(0.0f));
+    const data::Camera cam = front_camera();
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, cloud);
+    render::Renderer renderer(ctx);
+    const auto want = ref::pick_reference(cloud, cam, 33, 25);
+    INFO("opacity " << want.opacity << ", surface weight " << want.surface_weight << ", surface " << want.surface_id);
+    REQUIRE(want.surface_weight > 0.9f);  // wall and ground are one surface
+    CHECK(want.surface_id != ground);
+    auto surface = seg::lift_click(renderer, gpu, cam, 33, 25, true, {}, seg::LiftRule::Surface, "click");
+    CHECK(surface.gaussian == want.surface_id);
+    CHECK(surface.gaussian != ground);
+    CHECK(surface.position.z == Approx(2.0).margin(1e-3));
+}
+
 TEST_CASE("pixel picking matches the CPU reference: dominant surface, tau Gaussian, opacity") {
     auto scene = ref::random_scene(21, 3000, 1);
     auto& ctx = test::gpu();
