@@ -22,11 +22,15 @@ uint32_t bits_for(uint32_t cells) {
 }
 
 // Median distance from a node to its nearest other node, over a sample of about 1000 nodes
-// (queried against the nodes outside the sample, so a query never finds itself). A Gaussian is in
-// the sample when its index hashes into one of `step` buckets: the sample follows the Gaussians,
-// not their rank in the domain. (Every step-th in scene order, as before, shifted the whole
+// (queried against the nodes outside the sample, so a query never finds itself). From 4000 nodes
+// a Gaussian is in the sample when its index hashes into one of `step` buckets: the sample follows
+// the Gaussians, not their rank in the domain. (Every step-th in scene order shifted the whole
 // sample when a click's ROI added one Gaussian to the domain; the median, and with it the grid
-// cell, moved by up to 9 % on a desk, which changed which neighbours the kNN found.)
+// cell, moved by up to 9 % on a desk, which changed which neighbours the kNN found.) Below that
+// the sample is every other node in scene order, as before: with half the nodes out of the tree a
+// hashed half leaves a node's nearest neighbour in the sample at random (on a 1,158-Gaussian
+// scene the spacing moved enough that a click took the whole scene), while scene order, spatially
+// sorted in most files, keeps neighbours on both sides.
 float spacing_of(const std::vector<glm::vec3>& p, const std::vector<uint32_t>& domain) {
     const size_t n = p.size();
     if (n < 2) return 1.0f;
@@ -34,16 +38,22 @@ float spacing_of(const std::vector<glm::vec3>& p, const std::vector<uint32_t>& d
     std::vector<uint32_t> rest;
     std::vector<size_t> queries;
     rest.reserve(n);
-    for (uint32_t i = 0; i < n; ++i) {
-        uint32_t h = domain[i] * 0x9E3779B1u;  // Fibonacci hashing: neighbouring indices spread over the buckets
-        h ^= h >> 15;
-        (h % step == 0 ? queries.push_back(i) : rest.push_back(i));
+    if (n >= 4000) {
+        for (uint32_t i = 0; i < n; ++i) {
+            uint32_t h = domain[i] * 0x9E3779B1u;  // Fibonacci hashing: neighbouring indices spread over the buckets
+            h ^= h >> 15;
+            (h % step == 0 ? queries.push_back(i) : rest.push_back(i));
+        }
+    } else {
+        // The nodes in scene order without a comparison sort (ids are distinct Gaussian indices).
+        const uint32_t top = *std::max_element(domain.begin(), domain.end());
+        std::vector<uint32_t> slot(size_t(top) + 1, 0xFFFFFFFFu);
+        for (uint32_t i = 0; i < n; ++i) slot[domain[i]] = i;
+        size_t r = 0;
+        for (uint32_t node : slot)
+            if (node != 0xFFFFFFFFu) (r++ % step == 0 ? queries.push_back(node) : rest.push_back(node));
     }
-    if (queries.empty() || rest.empty()) {  // a handful of nodes: split them by rank
-        queries.clear();
-        rest.clear();
-        for (uint32_t i = 0; i < n; ++i) (i % 2 == 0 ? queries.push_back(i) : rest.push_back(i));
-    }
+    if (queries.empty() || rest.empty()) return 1e-6f;
     data::clicks::KdTree tree(p, rest, 512);  // ~1000 queries: a shallow tree builds in a third of the time
     std::vector<double> d;
     for (size_t q : queries) d.push_back(std::sqrt(tree.nearest2(glm::dvec3(p[q]), 1e30)));

@@ -508,7 +508,7 @@ TEST_CASE("graph decoder: a click on the same objects reuses their domain, other
         if (step - 1 == 3) {
             // A further click on the same objects and options starts the walk from the last answer;
             // a fresh segmenter starts cold. Both stop at the walk's tolerance, so a few nodes at
-            // a tie may fall either way (7 of 7,760 here).
+            // a tie may fall either way (7 of 7,760 with one spacing sample tried).
             size_t differ = 0;
             for (size_t i = 0; i < got.labels.size(); ++i) differ += got.labels[i] != want.labels[i];
             CHECK(differ * 200 <= got.labels.size());
