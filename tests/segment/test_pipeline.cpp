@@ -133,6 +133,20 @@ data::Camera front_camera() {
     cam.cy = 24;
     return cam;
 }
+
+// A wall at z = 2 of small Gaussians that cover a pixel to about 0.6 only, and behind it one
+// large opaque Gaussian (the ground, last in the cloud) at depth `z`, `thickness` along the ray.
+data::GaussianCloud wall_before_ground(float z, float thickness) {
+    data::GaussianCloud cloud;
+    for (int y = -8; y <= 8; ++y)
+        for (int x = -8; x <= 8; ++x)
+            ref::add_gaussian(cloud, glm::vec3(x * 0.05f, y * 0.05f, 2.0f), glm::vec3(std::log(0.03f), std::log(0.03f), -6.0f),
+                              glm::vec4(1, 0, 0, 0), -1.2f, glm::vec3(0.0f));
+    ref::add_gaussian(cloud, glm::vec3(0.0f, 0.0f, z), glm::vec3(std::log(2.0f), std::log(2.0f), std::log(thickness)),
+                      glm::vec4(1, 0, 0, 0), 6.0f, glm::vec3(0.0f));
+    return cloud;
+}
+
 }  // namespace
 
 TEST_CASE("click lifting: by the tau rule the anchor lies where opacity reaches tau, and bad clicks are named") {
@@ -168,14 +182,8 @@ TEST_CASE("click lifting: by the tau rule the anchor lies where opacity reaches 
 TEST_CASE("click lifting: a click on an object lifts onto it, though the ground behind its edge reaches tau") {
     // The object: a wall at z = 2 of small Gaussians that cover a pixel to about 0.6 only; the
     // ground: one large opaque Gaussian at z = 5 behind it, which completes the pixel.
-    data::GaussianCloud cloud;
-    for (int y = -8; y <= 8; ++y)
-        for (int x = -8; x <= 8; ++x)
-            ref::add_gaussian(cloud, glm::vec3(x * 0.05f, y * 0.05f, 2.0f), glm::vec3(std::log(0.03f), std::log(0.03f), -6.0f),
-                              glm::vec4(1, 0, 0, 0), -1.2f, glm::vec3(0.0f));
-    const int32_t ground = int32_t(cloud.size());
-    ref::add_gaussian(cloud, glm::vec3(0.0f, 0.0f, 5.0f), glm::vec3(std::log(2.0f), std::log(2.0f), std::log(0.05f)),
-                      glm::vec4(1, 0, 0, 0), 6.0f, glm::vec3(0.0f));
+    const data::GaussianCloud cloud = wall_before_ground(5.0f, 0.05f);
+    const int32_t ground = int32_t(cloud.size()) - 1;
     const data::Camera cam = front_camera();
     auto& ctx = test::gpu();
     render::GpuScene gpu(ctx, cloud);
@@ -200,14 +208,8 @@ TEST_CASE("click lifting: a thin object that chains in depth into a large opaque
     // enough that the two make one surface. That Gaussian alone outweighs each of the wall's, but
     // the wall holds most of the surface's weight: the surface's median, not its heaviest
     // Gaussian, stands for it.
-    data::GaussianCloud cloud;
-    for (int y = -8; y <= 8; ++y)
-        for (int x = -8; x <= 8; ++x)
-            ref::add_gaussian(cloud, glm::vec3(x * 0.05f, y * 0.05f, 2.0f), glm::vec3(std::log(0.03f), std::log(0.03f), -6.0f),
-                              glm::vec4(1, 0, 0, 0), -1.2f, glm::vec3(0.0f));
-    const int32_t ground = int32_t(cloud.size());
-    ref::add_gaussian(cloud, glm::vec3(0.0f, 0.0f, 2.3f), glm::vec3(std::log(2.0f), std::log(2.0f), std::log(0.15f)),
-                      glm::vec4(1, 0, 0, 0), 6.0f, glm::vec3(0.0f));
+    const data::GaussianCloud cloud = wall_before_ground(2.3f, 0.15f);
+    const int32_t ground = int32_t(cloud.size()) - 1;
     const data::Camera cam = front_camera();
     auto& ctx = test::gpu();
     render::GpuScene gpu(ctx, cloud);
