@@ -42,6 +42,7 @@ struct SegmentArgs {
     seg::GraphOptions graph;
     seg::WalkOptions walk;
     float unary = 1.0f, unary_confidence = 0.97f, walk_sure = 0.7f;
+    seg::ObjectSplitOptions splits;
     double unary_clean = seg::SegmentOptions{}.unary_clean;
     uint32_t coarse = 8;
     uint64_t graph_max_nodes = 0, graph_budget = seg::SegmentOptions{}.graph_budget;
@@ -133,6 +134,7 @@ void run_segment(const SegmentArgs& args) {
     o.graph_scale_ratio = a.scale_ratio;
     o.solver = solver;
     o.walk_sure = a.walk_sure;
+    o.object_splits = a.splits;
     o.lift = lift;
     if (!a.roi.empty()) parse_roi(a.roi, o.roi_length, o.roi_width);
     auto gt = cloud.int_property(a.label_property);
@@ -177,7 +179,7 @@ void run_segment(const SegmentArgs& args) {
     if (result.graph) {
         auto& g = *result.graph;
         report["graph"] = {{"solver", seg::graph_solver_name(g.solver)}, {"nodes", g.nodes},         {"seeds", g.seeds},         {"unreached", g.unreached}, {"unreached_components", g.unreached_components},
-                           {"iterations", g.iterations}, {"levels", g.levels}, {"jacobi_retries", g.jacobi_retries}, {"range_retries", g.range_retries}, {"out_of_range", g.out_of_range}, {"rounds", g.rounds}, {"forest_free", g.forest_free}, {"residual", g.residual}, {"cell", g.cell},
+                           {"iterations", g.iterations}, {"levels", g.levels}, {"jacobi_retries", g.jacobi_retries}, {"range_retries", g.range_retries}, {"out_of_range", g.out_of_range}, {"rounds", g.rounds}, {"forest_free", g.forest_free}, {"widened_clicks", g.widened_clicks}, {"object_splits", g.object_splits}, {"residual", g.residual}, {"cell", g.cell},
                            {"spacing", g.spacing},     {"k", o.graph_options.k}, {"domain", g.domain}, {"stride", g.stride}, {"margin", g.margin}, {"focused", g.focused}};
     }
     report["failed"] = failed;
@@ -297,6 +299,8 @@ void register_segment(CLI::App& app, std::function<void()>& run) {
     cmd->add_option("--walk-dense-labels", a->walk.dense_labels, "Graph: up to this many labels (objects + background) every node keeps every label's value; past it each node keeps its 16 largest (same labels, flat memory)")->capture_default_str();
     cmd->add_option("--walk-coarse", a->coarse, "Graph: a first solve on every n-th Gaussian (1: none): the viewer's early answer, and where a Jacobi-preconditioned solve starts (multigrid starts from the prior)")->capture_default_str();
     cmd->add_option("--walk-sure", a->walk_sure, "walk+forest: the walk's label stands where its share of the probability reaches this")->capture_default_str();
+    cmd->add_option("--object-split-clean", a->splits.clean, "walk+forest: where two objects meet, the widest paths' split from the clicks replaces the walk's if its edges are on average below this share of the objects' inner edges (0: never)")->capture_default_str()->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--object-split-ratio", a->splits.ratio, "walk+forest: ... and below this share of the walk's split's")->capture_default_str()->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--walk-tolerance", a->walk.tolerance, "Graph: relative residual to stop at")->capture_default_str();
     cmd->add_option("--walk-preconditioner", a->preconditioner, "Graph: the conjugate gradient's preconditioner: multigrid (an aggregation V-cycle) or jacobi (the diagonal)")->capture_default_str();
     cmd->add_option("--walk-coarse-scale", a->walk.coarse_scale, "Graph, multigrid: the coarse correction's scale")->capture_default_str();

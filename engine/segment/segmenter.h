@@ -24,6 +24,7 @@
 #include "engine/segment/column_index.h"
 #include "engine/segment/decoder.h"
 #include "engine/segment/knn_graph.h"
+#include "engine/segment/object_splits.h"
 #include "engine/segment/prompt_encoder.h"
 #include "engine/segment/random_walker.h"
 #include "engine/segment/seeded_forest.h"
@@ -72,6 +73,7 @@ struct SegmentOptions {
     WalkOptions walk;
     ForestOptions forest;
     float walk_sure = 0.7f;       // walk+forest: the walk's label stands where its share reaches this
+    ObjectSplitOptions object_splits;  // walk+forest: where two objects meet, the widest paths' split may stand
     double graph_margin = 0.5;    // the solve's domain: the largest ROI columns widened by this fraction per side
     // The background's boundary is each object's ROI scaled by each of these (the graph is built
     // once, over the largest); per object the answer of the smallest scale stands unless a larger
@@ -152,6 +154,8 @@ struct GraphReport {
     uint64_t out_of_range = 0;   // walk values still outside [0, 1] after Jacobi, clamped
     uint32_t rounds = 0;         // the forest's relaxation rounds on the GPU (0: flooded on the host)
     size_t forest_free = 0;      // nodes the forest had to label (no seed, the walk not sure)
+    uint32_t widened_clicks = 0; // clicks on a fragment of a surface that also seeded its neighbours (seed_clicks)
+    uint32_t object_splits = 0;  // pairs of objects split by the widest paths instead (object_splits.h)
     double residual = 0, cell = 0, spacing = 0;
     // The graph holds every stride-th node of the domain (in Morton order) and the clicked ones;
     // the rest take their nearest graph node's label. 1: the whole domain. More only where the
@@ -236,8 +240,17 @@ private:
                      SegmentResult& result);
     // Each click seeds its nearest node (of d's `domain_nodes`) and that node's neighbours with its
     // object's label (with `nbr` null: the nearest nodes alone); `cell` sizes a search grid.
-    void seed_clicks(const std::vector<ObjectResult*>& objects, const GraphDomain& d, const std::vector<uint32_t>* nbr,
-                     const DomainNodes& domain_nodes, float cell, WalkProblem& pr) const;
+    // With the graph's `adjacency`, a click on a fragment of the surface it hit (most nodes within
+    // the clicked Gaussian's extent are not joined to its node) also seeds the nearest of the
+    // others. Returns how many clicks were widened so.
+    uint32_t seed_clicks(const std::vector<ObjectResult*>& objects, const GraphDomain& d, const std::vector<uint32_t>* nbr,
+                         const DomainNodes& domain_nodes, float cell, WalkProblem& pr,
+                         const HostAdjacency* adjacency = nullptr) const;
+    // Where two objects' final answers meet, the widest paths' split from the clicks may replace
+    // theirs (object_splits.h); claims move with their probability.
+    // Returns how many pairs of objects took the widest paths' split.
+    uint32_t settle_splits(const SegmentOptions& o, std::vector<ObjectResult*>& objects, const GraphDomain& d,
+                           const std::vector<uint32_t>& nbr);
     // The coarse answer before the fine graph is built, where the options want one and the
     // decoder allows it (graph alone, a walk); false if it was not given.
     bool early_coarse_answer(const SegmentOptions& o, const std::vector<ObjectResult*>& objects, const GraphDomain& d,
@@ -338,6 +351,9 @@ private:
     GraphOptions graph_built_with_;
     std::optional<DomainNodes> nodes_;    // graph_'s nodes, made once per graph
     std::vector<uint32_t> roots_;         // graph_'s components (per node, its root), once per graph
+    // seed_clicks' widened clicks on graph_: per click (its Gaussian and 3D point) the further
+    // nodes it seeds, empty where it is not widened. A scan of the domain per click, once per graph.
+    mutable std::map<std::tuple<int32_t, float, float, float>, std::vector<uint32_t>> widened_;
     std::list<Bridges> bridges_;          // graph_'s bridges, the last used first (one per ROI scale)
     std::optional<ColumnIndex> columns_;
     PixelBins lift_bins_;  // the views clicked last: their Gaussians binned by pixel

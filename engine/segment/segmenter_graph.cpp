@@ -7,9 +7,12 @@
 #include <cmath>
 #include <unordered_set>
 
+#include <glm/gtc/quaternion.hpp>
+
 #include "dataset/clicks/point_grid.h"
 #include "dataset/semantic/gaussian_features.h"
 #include "engine/segment/boundary_contrast.h"
+#include "engine/segment/object_splits.h"
 #include "engine/vk/context.h"
 
 namespace pg::seg {
@@ -394,7 +397,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     const GraphOptions& go = o.graph_options;
     std::vector<double> key{double(objects.size()), margin, double(capacity), double(budget), double(o.graph_focus),
                             o.graph_focus_grow, double(o.coarse_stride), double(int(o.solver)), o.walk_sure,
-                            double(o.walk.tolerance), double(int(o.walk.preconditioner)), double(go.k), go.cell,
+                            double(o.object_splits.ratio), double(o.object_splits.keep), double(o.walk.tolerance), double(int(o.walk.preconditioner)), double(go.k), go.cell,
                             double(go.shells), go.colour, go.normal, go.distance, go.opacity};
     key.insert(key.end(), scales.begin(), scales.end());
     for (const auto* obj : objects) {
@@ -512,6 +515,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
             for (auto [g, p] : objects[j]->claims) label[size_t(d.node_of[g])] = int32_t(j + 1);
         return boundary_contrast(graph_.host_adjacency(), label, uint32_t(objects.size() + 1));
     };
+    uint32_t widened = 0;  // the same clicks at every scale
     // One solve with the margin's background seeds at ROI `scale` (and the network's prior if
     // asked): the objects' claims. Each kind of solve warm-starts only from its own last answer
     // (a further click on this graph), never from another scale's or from the prior's.
@@ -520,7 +524,7 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         t0 = Clock::now();
         scale_rois(cloud_, domain_boxes_, scale, d);
         WalkProblem pr = margin_problem(d, objects.size());
-        seed_clicks(objects, d, &nbr, *nodes_, graph_.cell_side(), pr);
+        widened = seed_clicks(objects, d, &nbr, *nodes_, graph_.cell_side(), pr, &graph_.host_adjacency());
         if (prior) network_prior(o, objects, rois, probabilities, d, &graph_.host_adjacency().degree, pr);
         result.stage_ms["graph seeds"] += ms_since(t0);
         for (auto* obj : objects) obj->claims.clear();
@@ -581,7 +585,54 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
         objects[j]->claims = std::move(best[j]);
         objects[j]->boundary_contrast = best_contrast[j];
     }
-    if (result.graph) result.graph->domain = d.domain.size(), result.graph->margin = margin, result.graph->focused = domain_focused_;
+    uint32_t splits = 0;
+    if (o.solver != GraphSolver::Walk && objects.size() > 1) {
+        t0 = Clock::now();
+        splits = settle_splits(o, objects, d, nbr);
+        result.stage_ms["graph splits"] += ms_since(t0);
+    }
+    if (result.graph) {
+        result.graph->domain = d.domain.size(), result.graph->margin = margin, result.graph->focused = domain_focused_;
+        result.graph->widened_clicks = widened, result.graph->object_splits = splits;
+    }
+}
+
+uint32_t Segmenter::settle_splits(const SegmentOptions& o, std::vector<ObjectResult*>& objects, const GraphDomain& d,
+                                  const std::vector<uint32_t>& nbr) {
+    // The answers as they stand (a Gaussian claimed twice: the higher claim, as in labelling),
+    // then where two of them meet, the widest paths' split from the clicks where it is far
+    // cleaner than theirs (object_splits.h). After the choice between scales, not inside each
+    // solve: a cleaner split at the larger scale would make a flooded answer look clean there.
+    const uint32_t nodes = uint32_t(d.domain.size());
+    std::vector<int32_t> label(nodes, 0);
+    std::vector<float> best(nodes, -1.0f);
+    for (size_t j = 0; j < objects.size(); ++j)
+        for (auto [g, p] : objects[j]->claims)
+            if (const int32_t i = d.node_of[g]; i >= 0 && p > best[size_t(i)]) best[size_t(i)] = p, label[size_t(i)] = int32_t(j + 1);
+    WalkProblem clicks;
+    clicks.seed.assign(nodes, -1);
+    seed_clicks(objects, d, &nbr, *nodes_, graph_.cell_side(), clicks, &graph_.host_adjacency());
+    std::vector<uint8_t> changed(nodes, 0);
+    const std::vector<int32_t> before = label;
+    const uint32_t taken = settle_object_splits(graph_.host_adjacency(), clicks.seed, label, o.object_splits, &changed);
+    if (!taken) return 0;
+    // The two objects of each split report their new answer's contrast.
+    const auto contrast = boundary_contrast(graph_.host_adjacency(), label, uint32_t(objects.size() + 1));
+    for (uint32_t i = 0; i < nodes; ++i)
+        if (changed[i])
+            for (int32_t l : {before[i], label[i]})
+                if (l > 0) objects[size_t(l) - 1]->boundary_contrast = contrast[size_t(l)];
+    // A moved Gaussian leaves every other claim and keeps the probability it had.
+    for (size_t j = 0; j < objects.size(); ++j) {
+        auto& claims = objects[j]->claims;
+        std::erase_if(claims, [&](const std::pair<uint32_t, float>& c) {
+            const int32_t i = d.node_of[c.first];
+            return i >= 0 && changed[size_t(i)];
+        });
+    }
+    for (uint32_t i = 0; i < nodes; ++i)
+        if (changed[i] && label[i] > 0) objects[size_t(label[i]) - 1]->claims.push_back({d.domain[i], best[i]});
+    return taken;
 }
 
 void Segmenter::drop_graph() {
@@ -589,6 +640,7 @@ void Segmenter::drop_graph() {
     nodes_.reset();
     warm_.clear();
     roots_.clear();
+    widened_.clear();
     bridges_.clear();
 }
 
@@ -748,8 +800,9 @@ std::vector<uint32_t> DomainNodes::nearest(const std::vector<glm::vec3>& points,
     return out;
 }
 
-void Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const GraphDomain& d,
-                            const std::vector<uint32_t>* nbr, const DomainNodes& domain_nodes, float cell, WalkProblem& pr) const {
+uint32_t Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const GraphDomain& d,
+                                const std::vector<uint32_t>* nbr, const DomainNodes& domain_nodes, float cell,
+                                WalkProblem& pr, const HostAdjacency* adjacency) const {
     const uint32_t nodes = uint32_t(d.domain.size());
     const std::vector<int32_t>& node_of = d.node_of;
     // A click seeds the Gaussian whose centre is nearest to its 3D point and that Gaussian's graph
@@ -763,11 +816,21 @@ void Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const Gra
     };
     std::vector<ClickSeed> clicks;
     std::vector<glm::vec3> points;
+    std::vector<int32_t> anchors;  // the clicked Gaussians
+    uint32_t widened = 0;
+    // The clicked Gaussian's extent: its 3-sigma ellipsoid (axes no thinner than the graph's cell),
+    // as centre and a map to the unit ball.
+    std::vector<std::pair<glm::vec3, glm::mat3>> extent;
     for (size_t j = 0; j < objects.size(); ++j)
         for (auto& a : objects[j]->anchors) {
             if (a.gaussian < 0 || node_of[size_t(a.gaussian)] < 0) continue;
             clicks.push_back({0, a.positive ? int32_t(j + 1) : 0});
             points.push_back(glm::vec3(a.position));
+            anchors.push_back(a.gaussian);
+            const glm::vec4 q = cloud_.rotation[size_t(a.gaussian)];
+            const glm::mat3 rot = glm::mat3_cast(glm::normalize(glm::quat(q.x, q.y, q.z, q.w)));
+            const glm::vec3 axes = 3.0f * glm::max(glm::exp(cloud_.log_scale[size_t(a.gaussian)]), glm::vec3(cell));
+            extent.push_back({cloud_.mean[size_t(a.gaussian)], glm::mat3(glm::vec3(1.0f / axes.x, 0, 0), glm::vec3(0, 1.0f / axes.y, 0), glm::vec3(0, 0, 1.0f / axes.z)) * glm::transpose(rot)});
         }
     const std::vector<uint32_t> nearest = domain_nodes.nearest(points, cell);
     for (size_t c = 0; c < clicks.size(); ++c) clicks[c].node = nearest[c];
@@ -775,7 +838,59 @@ void Segmenter::seed_clicks(const std::vector<ObjectResult*>& objects, const Gra
         for (auto [i, label] : clicks)
             for (uint32_t t = 0; t < k; ++t)
                 if (uint32_t q = (*nbr)[size_t(i) * k + t]; q < nodes && pr.seed[q] < 0) pr.seed[q] = label;
+    if (adjacency) {
+        // A click whose node lies on a fragment of the surface it hit would hold its object to
+        // that fragment: on the real guitar's back, large flat Gaussians up to 8 cm apart in pieces
+        // of 3-80 nodes the kNN graph does not join, or a clump of Gaussians on one point whose
+        // edges out have no weight. So where fewer than half the nodes within the clicked
+        // Gaussian's 3-sigma ellipsoid are joined to the click's node inside it (along edges of
+        // weight at least kJoined), the click also seeds the k nodes nearest to its point among
+        // the others.
+        constexpr float kJoined = 1e-3f;
+        const HostAdjacency& g = *adjacency;
+        std::vector<uint8_t> near, joined;
+        for (size_t c = 0; c < clicks.size(); ++c) {
+            const std::tuple<int32_t, float, float, float> click{anchors[c], points[c].x, points[c].y, points[c].z};
+            auto found = widened_.find(click);
+            if (found == widened_.end()) {
+                if (near.empty()) near.assign(nodes, 0), joined.assign(nodes, 0);
+                std::vector<uint32_t> in_reach;
+                for (uint32_t i = 0; i < nodes; ++i) {
+                    const glm::vec3 v = extent[c].second * (domain_nodes.position[i] - extent[c].first);
+                    if (glm::dot(v, v) <= 1.0f) in_reach.push_back(i), near[i] = 1;
+                }
+                std::vector<uint32_t> stack;
+                size_t reached = 0;
+                if (near[clicks[c].node]) joined[clicks[c].node] = 1, reached = 1, stack.push_back(clicks[c].node);
+                while (!stack.empty()) {
+                    const uint32_t i = stack.back();
+                    stack.pop_back();
+                    for (uint32_t e = g.rows[i]; e < g.rows[i + 1]; ++e)
+                        if (const uint32_t j = g.columns[e]; near[j] && !joined[j] && g.weights[e] >= kJoined)
+                            joined[j] = 1, ++reached, stack.push_back(j);
+                }
+                std::vector<uint32_t> more;
+                if (2 * reached < in_reach.size()) {
+                    std::vector<std::pair<float, uint32_t>> others;
+                    for (uint32_t i : in_reach)
+                        if (!joined[i]) {
+                            const glm::vec3 v = domain_nodes.position[i] - points[c];
+                            others.push_back({glm::dot(v, v), i});
+                        }
+                    const size_t take = std::min<size_t>(k, others.size());
+                    std::partial_sort(others.begin(), others.begin() + ptrdiff_t(take), others.end());
+                    for (size_t t = 0; t < take; ++t) more.push_back(others[t].second);
+                }
+                for (uint32_t i : in_reach) near[i] = 0, joined[i] = 0;
+                found = widened_.emplace(click, std::move(more)).first;
+            }
+            for (uint32_t i : found->second)
+                if (pr.seed[i] < 0) pr.seed[i] = clicks[c].label;
+            widened += !found->second.empty();
+        }
+    }
     for (auto [i, label] : clicks) pr.seed[i] = label;
+    return widened;
 }
 
 bool Segmenter::coarse_allowed(const SegmentOptions& o, size_t nodes) {

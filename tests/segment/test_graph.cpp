@@ -573,6 +573,54 @@ TEST_CASE("graph decoder: a piece split off an object's graph follows the object
     }
 }
 
+TEST_CASE("graph decoder: a click on a fragment of the surface it hit seeds the surface about it too") {
+    // A blue wall 1.2 x 1 (z = 0, y down) with a hole of radius 0.12, in which lies one large flat
+    // Gaussian (sigma 0.06) of the wall's colour: a real capture's sparse splat, beyond the
+    // neighbour search's reach of the wall, so a piece of the graph of its own. A click on it holds
+    // its object to that one node unless it also seeds the wall within the Gaussian's extent.
+    seg::SegmentOptions o = balls_options();
+    ref::TestScene s;
+    std::vector<int32_t> wall;
+    ref::Rng rng(3);
+    while (s.cloud.size() < 5000) {
+        const float x = rng.uniform(-0.6f, 0.6f), y = rng.uniform(-1.1f, -0.1f);
+        if (x * x + (y + 0.6f) * (y + 0.6f) < 0.12f * 0.12f) continue;
+        ref::add_gaussian(s.cloud, glm::vec3(x, y, 0.0f), glm::log(glm::vec3(0.01f, 0.01f, 0.001f)), glm::vec4(1, 0, 0, 0), 4.0f,
+                          ref::dc_from_rgb({0.3f, 0.5f, 0.7f}));
+        wall.push_back(1);
+    }
+    ref::add_gaussian(s.cloud, glm::vec3(0.0f, -0.6f, 0.0f), glm::log(glm::vec3(0.06f, 0.06f, 0.0005f)), glm::vec4(1, 0, 0, 0), 4.0f,
+                      ref::dc_from_rgb({0.3f, 0.5f, 0.7f}));
+    wall.push_back(1);
+    for (int i = 0; i < 6000; ++i) {
+        ref::add_gaussian(s.cloud, glm::vec3(rng.uniform(-1.5f, 1.5f), 0.01f, rng.uniform(-1.0f, 1.0f)),
+                          glm::log(glm::vec3(0.03f, 0.003f, 0.03f)), glm::vec4(1, 0, 0, 0), 4.0f, ref::dc_from_rgb(glm::vec3(0.5f)));
+        wall.push_back(0);
+    }
+    s.cameras.push_back(ref::look_at_camera("front", {0, -0.6, -4}, {0, -0.6, 0}, {0, -1, 0}, 320, 240, 300, 300, 160, 120));
+    auto& ctx = test::gpu();
+    render::GpuScene gpu(ctx, s.cloud);
+    seg::Segmenter segmenter(ctx, s.cloud, gpu, s.cameras);
+    data::Prompts p;
+    p.objects.push_back({"wall", 1, {point_click({0.02, -0.6, 0.0})}});
+    for (auto solver : {seg::GraphSolver::WalkForest, seg::GraphSolver::Forest}) {
+        INFO("solver " << seg::graph_solver_name(solver));
+        o.solver = solver;
+        const auto r = segmenter.segment(p, o);
+        REQUIRE(r.failed() == 0);
+        REQUIRE(r.graph);
+        CHECK(r.graph->widened_clicks == 1);
+        CHECK(r.objects[0].anchors[0].gaussian == 5000);  // the click did land on the fragment
+        CHECK(iou(r.labels, 1, wall, 1) > 0.95);
+    }
+    // A click on the wall itself is not widened.
+    p.objects[0].clicks[0] = point_click({0.4, -0.3, 0.0});
+    const auto plain = segmenter.segment(p, o);
+    REQUIRE(plain.graph);
+    CHECK(plain.graph->widened_clicks == 0);
+    CHECK(iou(plain.labels, 1, wall, 1) > 0.95);
+}
+
 TEST_CASE("segmenter: an object whose clicks cannot be lifted fails alone, the others are segmented") {
     auto s = balls_scene();
     auto& ctx = test::gpu();
