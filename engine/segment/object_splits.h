@@ -1,11 +1,11 @@
 #pragma once
 // Where two objects' answers meet, the walk and the widest paths can split them differently. The
-// walk cuts a thin part between its click and a large neighbour near the midpoint of the way
-// (the real guitar's stand, clicked on a leg, lost its post to the guitar it holds: stand 3D IoU
-// 0.44), the widest paths at the weakest link on the way (where the stand touches the guitar:
-// 0.90), but arbitrarily between look-alikes that share a surface (terraced houses, where the
-// walk's midpoint is the better guess). So per pair of objects in contact, the widest paths'
-// split replaces the walk's where it cuts far weaker edges. No Vulkan here.
+// walk cuts a thin object between its click and a large neighbour where the two pulls balance
+// (the real guitar's stand, clicked near its foot, lost half of itself to the guitar it holds:
+// stand 3D IoU 0.44), the widest paths at the weakest link on the way (where the stand touches
+// the guitar: 0.90), but arbitrarily between look-alikes that share a surface (terraced houses,
+// where the walk's midpoint is the better guess). So per pair of objects in contact, the widest
+// paths' split replaces the walk's where it cuts far weaker edges. No Vulkan here.
 #include <cstdint>
 #include <vector>
 
