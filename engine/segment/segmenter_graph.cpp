@@ -397,7 +397,8 @@ void Segmenter::solve_graph(const SegmentOptions& o, std::vector<ObjectResult*>&
     const GraphOptions& go = o.graph_options;
     std::vector<double> key{double(objects.size()), margin, double(capacity), double(budget), double(o.graph_focus),
                             o.graph_focus_grow, double(o.coarse_stride), double(int(o.solver)), o.walk_sure,
-                            double(o.object_splits.ratio), double(o.object_splits.keep), double(o.walk.tolerance), double(int(o.walk.preconditioner)), double(go.k), go.cell,
+                            double(o.object_splits.clean), double(o.object_splits.ratio), double(o.object_splits.keep),
+                            double(o.walk.tolerance), double(int(o.walk.preconditioner)), double(go.k), go.cell,
                             double(go.shells), go.colour, go.normal, go.distance, go.opacity};
     key.insert(key.end(), scales.begin(), scales.end());
     for (const auto* obj : objects) {
