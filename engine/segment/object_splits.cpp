@@ -100,8 +100,11 @@ uint32_t settle_object_splits(const HostAdjacency& graph, const std::vector<int3
     for (uint32_t i = 0; i < n; ++i)
         if (auto it = members.find(label[i]); it != members.end()) it->second.push_back(i);
 
-    const std::vector<int32_t> walk = label;  // every pair is judged against the walk's answer
+    // Every pair is judged against the walk's answer: the moves are made once all are judged
+    // (the disputed sets are disjoint).
+    const std::vector<int32_t>& walk = label;
     std::vector<uint8_t> moved(n, 0);
+    std::vector<const std::vector<uint32_t>*> take_nodes;
     uint32_t taken = 0;
     for (const auto& [pair, nodes] : disputed) {
         const auto [a, b] = pair;
@@ -119,14 +122,14 @@ uint32_t settle_object_splits(const HostAdjacency& graph, const std::vector<int3
         const bool keeps = a_after >= double(options.keep) * double(members[a].size()) &&
                            b_after >= double(options.keep) * double(members[b].size());
         const bool take = before > 0 && after < double(options.ratio) * before && after < double(options.clean) && keeps;
-        for (uint32_t i : nodes) {
-            moved[i] = 0;
-            if (!take) continue;
+        for (uint32_t i : nodes) moved[i] = 0;
+        if (take) take_nodes.push_back(&nodes), ++taken;
+    }
+    for (const auto* nodes : take_nodes)
+        for (uint32_t i : *nodes) {
             label[i] = paths[i];
             if (changed) (*changed)[i] = 1;
         }
-        taken += take;
-    }
     return taken;
 }
 

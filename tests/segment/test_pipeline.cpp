@@ -147,6 +147,21 @@ data::GaussianCloud wall_before_ground(float z, float thickness) {
     return cloud;
 }
 
+// wall_before_ground on the device, seen by front_camera, and the CPU reference's pick at the
+// pixel (33, 25) both lifting tests click.
+struct WallBeforeGround {
+    data::GaussianCloud cloud;
+    int32_t ground;
+    data::Camera cam = front_camera();
+    render::GpuScene gpu;
+    render::Renderer renderer;
+    ref::RefPick want;
+    WallBeforeGround(float z, float thickness)
+        : cloud(wall_before_ground(z, thickness)), ground(int32_t(cloud.size()) - 1), gpu(test::gpu(), cloud),
+          renderer(test::gpu()), want(ref::pick_reference(cloud, cam, 33, 25)) {}
+    seg::Anchor lift(seg::LiftRule rule) { return seg::lift_click(renderer, gpu, cam, 33, 25, true, {}, rule, "click"); }
+};
+
 }  // namespace
 
 TEST_CASE("click lifting: by the tau rule the anchor lies where opacity reaches tau, and bad clicks are named") {
@@ -182,22 +197,17 @@ TEST_CASE("click lifting: by the tau rule the anchor lies where opacity reaches 
 TEST_CASE("click lifting: a click on an object lifts onto it, though the ground behind its edge reaches tau") {
     // The object: a wall at z = 2 of small Gaussians that cover a pixel to about 0.6 only; the
     // ground: one large opaque Gaussian at z = 5 behind it, which completes the pixel.
-    const data::GaussianCloud cloud = wall_before_ground(5.0f, 0.05f);
-    const int32_t ground = int32_t(cloud.size()) - 1;
-    const data::Camera cam = front_camera();
-    auto& ctx = test::gpu();
-    render::GpuScene gpu(ctx, cloud);
-    render::Renderer renderer(ctx);
-    const auto want = ref::pick_reference(cloud, cam, 33, 25);
+    WallBeforeGround s(5.0f, 0.05f);
+    const auto& want = s.want;
     INFO("opacity " << want.opacity << ", surface weight " << want.surface_weight << ", tau depth " << want.tau_depth);
     REQUIRE(want.opacity > 0.9f);
-    REQUIRE(want.tau_id == ground);  // the wall alone never reaches tau here
-    auto tau = seg::lift_click(renderer, gpu, cam, 33, 25, true, {}, seg::LiftRule::Tau, "click");
-    CHECK(tau.gaussian == ground);
+    REQUIRE(want.tau_id == s.ground);  // the wall alone never reaches tau here
+    auto tau = s.lift(seg::LiftRule::Tau);
+    CHECK(tau.gaussian == s.ground);
     CHECK(tau.position.z == Approx(5.0).margin(1e-3));
-    auto surface = seg::lift_click(renderer, gpu, cam, 33, 25, true, {}, seg::LiftRule::Surface, "click");
+    auto surface = s.lift(seg::LiftRule::Surface);
     CHECK(surface.gaussian == want.surface_id);
-    CHECK(surface.gaussian != ground);
+    CHECK(surface.gaussian != s.ground);
     CHECK(surface.position.z == Approx(2.0).margin(1e-3));
     CHECK(surface.position.x / surface.position.z == Approx((33.5 - 32) / 60.0).margin(1e-5));
 }
@@ -208,19 +218,14 @@ TEST_CASE("click lifting: a thin object that chains in depth into a large opaque
     // enough that the two make one surface. That Gaussian alone outweighs each of the wall's, but
     // the wall holds most of the surface's weight: the surface's median, not its heaviest
     // Gaussian, stands for it.
-    const data::GaussianCloud cloud = wall_before_ground(2.3f, 0.15f);
-    const int32_t ground = int32_t(cloud.size()) - 1;
-    const data::Camera cam = front_camera();
-    auto& ctx = test::gpu();
-    render::GpuScene gpu(ctx, cloud);
-    render::Renderer renderer(ctx);
-    const auto want = ref::pick_reference(cloud, cam, 33, 25);
+    WallBeforeGround s(2.3f, 0.15f);
+    const auto& want = s.want;
     INFO("opacity " << want.opacity << ", surface weight " << want.surface_weight << ", surface " << want.surface_id);
     REQUIRE(want.surface_weight > 0.9f);  // wall and ground are one surface
-    CHECK(want.surface_id != ground);
-    auto surface = seg::lift_click(renderer, gpu, cam, 33, 25, true, {}, seg::LiftRule::Surface, "click");
+    CHECK(want.surface_id != s.ground);
+    auto surface = s.lift(seg::LiftRule::Surface);
     CHECK(surface.gaussian == want.surface_id);
-    CHECK(surface.gaussian != ground);
+    CHECK(surface.gaussian != s.ground);
     CHECK(surface.position.z == Approx(2.0).margin(1e-3));
 }
 
