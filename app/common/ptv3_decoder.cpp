@@ -76,6 +76,10 @@ std::vector<float> Ptv3Decoder::predict(const seg::DecoderBatch& batch) {
         if (batch.gaussians.size() != n) throw std::logic_error("Ptv3Decoder: a batch without its Gaussians' indices");
         appearance = data::semantic::raw_gaussian_features(*scene_, batch.gaussians, c.features, batch.frame.up);
         data::semantic::finish_gaussian_features(appearance, c.features, c.grid_size * batch.frame.scale);
+        if (c.scale_spacing != 0) {
+            const float k = data::semantic::scale_spacing(appearance, c.features, batch.coords, c.grid_size * batch.frame.scale);
+            if (k < float(c.scale_spacing)) data::semantic::shift_log_scales(appearance, c.features, float(c.scale_spacing) - k);
+        }
     }
     const size_t extra = appearance.size() / n;
     nn::Ptv3Input in;

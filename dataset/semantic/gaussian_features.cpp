@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <array>
-#include <functional>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <stdexcept>
 
 namespace pg::data::semantic {
@@ -87,6 +88,41 @@ void finish_gaussian_features(std::span<float> rows, const std::vector<std::stri
                 }
         offset += size_t(group_channels(g));
     }
+}
+
+float scale_spacing(std::span<const float> rows, const std::vector<std::string>& groups, std::span<const glm::vec3> coords,
+                    double unit, size_t samples) {
+    const int offset = group_offset(groups, "log_scale");
+    const size_t n = coords.size(), channels = size_t(feature_channels(groups));
+    if (offset < 0 || n < 2 || rows.size() < n * channels || samples == 0) return std::nanf("");
+    const size_t step = std::max<size_t>(1, n / samples);
+    const float log_unit = float(std::log(unit));
+    std::vector<float> v;
+    for (size_t r = 0; r < n; r += step) {
+        float nearest = std::numeric_limits<float>::infinity();
+        for (size_t q = 0; q < n; ++q) {
+            const glm::vec3 d = coords[q] - coords[r];
+            const float dd = glm::dot(d, d);
+            if (q != r && dd > 0 && dd < nearest) nearest = dd;
+        }
+        if (!std::isfinite(nearest)) continue;  // every other point on this one
+        const float* f = &rows[r * channels + size_t(offset)];
+        v.push_back(0.5f * (f[0] + f[1]) - (0.5f * std::log(nearest) - log_unit));
+    }
+    if (v.empty()) return std::nanf("");
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+
+void shift_log_scales(std::span<float> rows, const std::vector<std::string>& groups, float shift) {
+    const int offset = group_offset(groups, "log_scale");
+    const size_t channels = size_t(feature_channels(groups));
+    if (offset < 0 || channels == 0) return;
+    for (size_t r = 0; r + channels <= rows.size(); r += channels)
+        for (size_t a = 0; a < 3; ++a) {
+            float& x = rows[r + size_t(offset) + a];
+            x = std::clamp(x + shift, -12.0f, 12.0f);
+        }
 }
 
 int group_offset(const std::vector<std::string>& groups, const std::string& group) {

@@ -39,6 +39,19 @@ std::vector<float> raw_gaussian_features(const GaussianCloud& cloud, std::span<c
                                          const std::vector<std::string>& groups, glm::dvec3 up);
 void finish_gaussian_features(std::span<float> rows, const std::vector<std::string>& groups, double unit);
 
+// How large a batch's Gaussians are against how densely the batch samples the surface: the
+// median, over up to `samples` of its rows (evenly spaced), of the mean of the two largest log
+// scales (as finished: in the unit) less the log of the distance to the row's nearest other point
+// in that unit. A scene trained denser, or an ROI split into more batches, has smaller Gaussians
+// than its batch's spacing: the model's log-scale inputs shift (seed 5501 at the generator's
+// default density: about 0.5 below the density-0.15 data the shipped model saw). NaN without a
+// log_scale group or with fewer than two points.
+float scale_spacing(std::span<const float> rows, const std::vector<std::string>& groups, std::span<const glm::vec3> coords,
+                    double unit, size_t samples = 256);
+
+// Adds `shift` to every row's three log scales (then the same clamps as finishing).
+void shift_log_scales(std::span<float> rows, const std::vector<std::string>& groups, float shift);
+
 // The first channel of `group` within rows of `groups`; -1 when absent.
 int group_offset(const std::vector<std::string>& groups, const std::string& group);
 

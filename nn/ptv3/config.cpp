@@ -93,6 +93,7 @@ Ptv3Config Ptv3Config::from_json(const nlohmann::json& j) {
     read(j, "input_frame", c.input_frame, false);
     read(j, "tile_size", c.tile_size, false);
     read(j, "features", c.features, false);
+    read(j, "scale_spacing", c.scale_spacing, false);
     read(j, "class_names", c.class_names, false);
     require_value(j, "cls_mode", false);
     require_value(j, "enable_rpe", false);
@@ -114,6 +115,7 @@ nlohmann::json Ptv3Config::to_json() const {
             {"pre_norm", true},                 {"input_frame", input_frame}};
     if (tile_size > 0) j["tile_size"] = tile_size;
     if (!features.empty()) j["features"] = features;
+    if (scale_spacing != 0) j["scale_spacing"] = scale_spacing;
     if (!class_names.empty()) j["class_names"] = class_names;
     return j;
 }

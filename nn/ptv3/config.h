@@ -30,6 +30,12 @@ struct Ptv3Config {
     // positive and negative click weights).
     double tile_size = 0;
     std::vector<std::string> features;
+    // Interactive models with a log_scale group: the lower quartile of scale_spacing
+    // (gaussian_features.h) over the batches it was trained on. A batch whose Gaussians are
+    // smaller than that against its spacing (a denser capture, an ROI split into more batches)
+    // has its log scales raised to it before the forward; batches like most of its training data
+    // are left as they are. 0: never.
+    double scale_spacing = 0;
     std::vector<std::string> class_names;
     bool semantic() const { return input_frame == "tile"; }
 

@@ -67,6 +67,43 @@ TEST_CASE("semantic features: colour, opacity, sorted scales in voxels and verti
     CHECK_THROWS_AS(semantic::feature_channels({"rgb", "normals"}), std::invalid_argument);
 }
 
+TEST_CASE("scale against spacing: a batch's Gaussians against how densely it samples the surface, raised by a shift") {
+    // A plane of Gaussians 0.1 apart, each 0.2 x 0.2 x 0.01: scale against spacing log(0.2 / 0.1),
+    // whatever the unit. Every second row and column (a quarter of them, as a batch of an ROI
+    // split in four): spacing 0.2, so log(1); the same Gaussians in a scene four times as dense
+    // would have been half as large.
+    auto plane = [](int step) {
+        GaussianCloud c;
+        for (int i = 0; i < 40; i += step)
+            for (int j = 0; j < 40; j += step) {
+                const size_t k = c.size();
+                c.resize(k + 1);
+                c.mean[k] = glm::vec3(0.1f * float(i), 0.1f * float(j), 0.0f);
+                c.log_scale[k] = glm::vec3(std::log(0.2f), std::log(0.2f), std::log(0.01f));
+                c.rotation[k] = glm::vec4(1, 0, 0, 0);
+            }
+        return c;
+    };
+    const auto groups = semantic::all_feature_groups();
+    for (double unit : {0.02, 0.5}) {
+        for (int step : {1, 2}) {
+            const GaussianCloud c = plane(step);
+            auto rows = semantic::gaussian_features(c, groups, {0, 0, 1}, unit);
+            const float k = semantic::scale_spacing(rows, groups, c.mean, unit);
+            CHECK_THAT(k, WithinAbs(std::log(0.2 / (0.1 * step)), 1e-4));
+            // Raised by the difference, the sparse batch reads as the dense one.
+            semantic::shift_log_scales(rows, groups, 0.5f);
+            CHECK_THAT(rows[4], WithinAbs(std::log(0.2 / unit) + 0.5, 1e-4));
+            CHECK_THAT(rows[6], WithinAbs(std::log(0.01 / unit) + 0.5, 1e-4));
+            CHECK_THAT(rows[3], WithinAbs(0.5, 1e-6));  // opacity untouched (logit 0)
+            CHECK_THAT(semantic::scale_spacing(rows, groups, c.mean, unit), WithinAbs(std::log(0.2 / (0.1 * step)) + 0.5, 1e-4));
+        }
+    }
+    const GaussianCloud one = plane(40);
+    CHECK(std::isnan(semantic::scale_spacing(semantic::gaussian_features(one, groups, {0, 0, 1}, 1.0), groups, one.mean, 1.0)));
+    CHECK(std::isnan(semantic::scale_spacing(semantic::gaussian_features(one, {"rgb"}, {0, 0, 1}, 1.0), {"rgb"}, one.mean, 1.0)));
+}
+
 TEST_CASE("scene tiles: every Gaussian lies in four overlapping tiles, each the column a brute-force search finds") {
     const SemanticScene s = random_scene(3000, 100.0, 7);
     const double tile = 20.0;

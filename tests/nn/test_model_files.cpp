@@ -139,6 +139,11 @@ TEST_CASE("ptv3 weights: a missing tensor, a wrong shape or a missing config is 
     CHECK_THROWS_WITH(nn::Ptv3Weights::load(*pool, path), Contains("tools/convert_checkpoint.py"));
     auto bad = pg::test::scratch("model-files") / "badconfig.safetensors";
     auto j = c.to_json();
+    // scale_spacing travels with the config, absent (0) unless set.
+    CHECK_FALSE(j.contains("scale_spacing"));
+    auto spaced = c;
+    spaced.scale_spacing = 0.38;
+    CHECK(nn::Ptv3Config::from_json(spaced.to_json()).scale_spacing == 0.38);
     j["enc_num_head"] = {3, 2};
     nn::write_safetensors(bad, {nn::make_entry("x", "F32", {1}, std::vector<float>{1})}, {{"config", j.dump()}});
     CHECK_THROWS_WITH(nn::Ptv3Weights::load(*pool, bad), Contains("not divisible by heads"));
