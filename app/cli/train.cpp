@@ -209,6 +209,7 @@ void run_train(const TrainArgs& a) {
         so.max_points = uint32_t(a.points);
         so.features = config.features;
         so.voxel = config.grid_size;
+        so.scale_spacing = config.scale_spacing;
         drawer = std::make_unique<data::train::SampleDrawer>(load_scenes(a.data, "train", "--data", so.features), so);
         if (!a.val.empty())
             val_drawer = std::make_unique<data::train::SampleDrawer>(load_scenes(a.val, "test", "--val", so.features),

@@ -42,7 +42,7 @@ void finish_gaussian_features(std::span<float> rows, const std::vector<std::stri
 // How large a batch's Gaussians are against how densely the batch samples the surface: the
 // median, over up to `samples` of its rows (evenly spaced), of the mean of the two largest log
 // scales (as finished: in the unit) less the log of the distance to the row's nearest other point
-// in that unit. A scene trained denser, or an ROI split into more batches, has smaller Gaussians
+// in that unit. A denser capture, or an ROI split into more batches, has smaller Gaussians
 // than its batch's spacing: the model's log-scale inputs shift (seed 5501 at the generator's
 // default density: about 0.5 below the density-0.15 data the shipped model saw). NaN without a
 // log_scale group or with fewer than two points.

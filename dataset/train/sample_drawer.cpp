@@ -151,7 +151,15 @@ Sample SampleDrawer::draw(Rng& rng) const {
         s.appearance.resize(s.size() * c);
         for (size_t i = 0; i < s.size(); ++i)
             std::copy_n(&scene.features[size_t(s.gaussians[i]) * c], c, &s.appearance[i * c]);
-        semantic::finish_gaussian_features(s.appearance, options_.features, options_.voxel * s.frame.scale);
+        const double unit = options_.voxel * s.frame.scale;
+        semantic::finish_gaussian_features(s.appearance, options_.features, unit);
+        if (options_.scale_spacing != 0) {
+            std::vector<glm::vec3> world(s.size());
+            for (size_t i = 0; i < s.size(); ++i) world[i] = scene.positions[s.gaussians[i]];
+            const float k = semantic::scale_spacing(s.appearance, options_.features, world, unit);
+            if (k < float(options_.scale_spacing))
+                semantic::shift_log_scales(s.appearance, options_.features, float(options_.scale_spacing) - k);
+        }
         if (options_.colour) augment_colour(s, rng);
     }
     compose_features(s);

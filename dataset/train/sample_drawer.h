@@ -42,6 +42,9 @@ struct SampleOptions {
     // units (the config's grid size) times the frame's scale, as Ptv3Decoder computes them.
     std::vector<std::string> features;
     double voxel = 0.02;
+    // The model's scale_spacing (nn/ptv3/config.h; 0: none): a sample below it has its log scales
+    // raised to it, as Ptv3Decoder does at inference (a model fine-tuned from one that has it).
+    double scale_spacing = 0;
     // Colour augmentation of the rgb group: a random permutation of the channels, then per
     // channel a gain in [1 - colour_gain, 1 + colour_gain] and a common offset of at most
     // colour_shift, clamped to [0, 1]; the model learns colour contrast, not a palette.

@@ -403,6 +403,23 @@ TEST_CASE("train: feature groups follow the click weights, in the model's voxel,
         for (size_t c = 3; c < 8; ++c) REQUIRE(t.feat[10 * i + 2 + c] == Approx(expect[8 * i + c]).margin(1e-6));
     }
     CHECK(changed);
+    // A model's scale_spacing raises the log scales as the decoder does, only below it.
+    std::vector<glm::vec3> world;
+    for (uint32_t g : s.gaussians) world.push_back(cloud.mean[g]);
+    const float k = sem::scale_spacing(expect, groups, world, 0.02 * s.frame.scale);
+    REQUIRE(std::isfinite(k));
+    for (const float margin : {-0.5f, 0.5f}) {
+        SampleOptions r = o;
+        r.scale_spacing = k + margin;
+        const SampleDrawer raised({scene}, r);
+        Rng r3(11);
+        const Sample u = raised.draw(r3);
+        REQUIRE(u.gaussians == s.gaussians);
+        for (size_t i = 0; i < u.size(); ++i)
+            for (size_t c = 0; c < 8; ++c)
+                REQUIRE(u.feat[10 * i + 2 + c] ==
+                        Approx(expect[8 * i + c] + (c >= 4 && c < 7 && margin > 0 ? margin : 0.0f)).margin(1e-5));
+    }
     // Scenes loaded with other groups than the drawer's are refused.
     CHECK_THROWS_AS(SampleDrawer({load_train_scene(dir)}, o), std::invalid_argument);
     CHECK_THROWS_AS(SampleDrawer({scene}, SampleOptions{}), std::invalid_argument);
