@@ -75,11 +75,9 @@ std::vector<float> Ptv3Decoder::predict(const seg::DecoderBatch& batch) {
         if (!scene_) throw std::logic_error("Ptv3Decoder: the model reads feature groups but has no scene");
         if (batch.gaussians.size() != n) throw std::logic_error("Ptv3Decoder: a batch without its Gaussians' indices");
         appearance = data::semantic::raw_gaussian_features(*scene_, batch.gaussians, c.features, batch.frame.up);
-        data::semantic::finish_gaussian_features(appearance, c.features, c.grid_size * batch.frame.scale);
-        if (c.scale_spacing != 0) {
-            const float k = data::semantic::scale_spacing(appearance, c.features, batch.coords, c.grid_size * batch.frame.scale);
-            if (k < float(c.scale_spacing)) data::semantic::shift_log_scales(appearance, c.features, float(c.scale_spacing) - k);
-        }
+        const double unit = c.grid_size * batch.frame.scale;
+        data::semantic::finish_gaussian_features(appearance, c.features, unit);
+        data::semantic::raise_scale_spacing(appearance, c.features, batch.coords, unit, c.scale_spacing);
     }
     const size_t extra = appearance.size() / n;
     nn::Ptv3Input in;

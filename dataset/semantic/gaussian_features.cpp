@@ -125,6 +125,15 @@ void shift_log_scales(std::span<float> rows, const std::vector<std::string>& gro
         }
 }
 
+float raise_scale_spacing(std::span<float> rows, const std::vector<std::string>& groups, std::span<const glm::vec3> coords,
+                          double unit, double reference) {
+    if (reference == 0) return 0.0f;
+    const float k = scale_spacing(rows, groups, coords, unit);
+    if (!(k < float(reference))) return 0.0f;  // NaN: nothing to measure
+    shift_log_scales(rows, groups, float(reference) - k);
+    return float(reference) - k;
+}
+
 int group_offset(const std::vector<std::string>& groups, const std::string& group) {
     int offset = 0;
     for (const auto& g : groups) {

@@ -52,6 +52,12 @@ float scale_spacing(std::span<const float> rows, const std::vector<std::string>&
 // Adds `shift` to every row's three log scales (then the same clamps as finishing).
 void shift_log_scales(std::span<float> rows, const std::vector<std::string>& groups, float shift);
 
+// A model's scale_spacing applied to one batch, as inference and training both do: where the
+// batch's scale_spacing is below `reference`, its log scales are raised by the difference.
+// Returns the shift (0: none; also for reference 0, which means no raise).
+float raise_scale_spacing(std::span<float> rows, const std::vector<std::string>& groups, std::span<const glm::vec3> coords,
+                          double unit, double reference);
+
 // The first channel of `group` within rows of `groups`; -1 when absent.
 int group_offset(const std::vector<std::string>& groups, const std::string& group);
 

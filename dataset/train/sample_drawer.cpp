@@ -156,9 +156,7 @@ Sample SampleDrawer::draw(Rng& rng) const {
         if (options_.scale_spacing != 0) {
             std::vector<glm::vec3> world(s.size());
             for (size_t i = 0; i < s.size(); ++i) world[i] = scene.positions[s.gaussians[i]];
-            const float k = semantic::scale_spacing(s.appearance, options_.features, world, unit);
-            if (k < float(options_.scale_spacing))
-                semantic::shift_log_scales(s.appearance, options_.features, float(options_.scale_spacing) - k);
+            semantic::raise_scale_spacing(s.appearance, options_.features, world, unit, options_.scale_spacing);
         }
         if (options_.colour) augment_colour(s, rng);
     }
